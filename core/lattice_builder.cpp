@@ -1,0 +1,157 @@
+#include "core/lattice_builder.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace papertear {
+
+SpringTable make_spring_table(const MaterialParams& m, const LatticeDims& d) {
+  SpringTable t;
+  const double h[3] = {d.hx, d.hy, d.hz};
+  const int grain_axis = m.grain == 'y' ? 1 : 0;
+  for (int s = 0; s < kSpringsPerCell; ++s) {
+    const SpringSlot& slot = kSpringSlots[std::size_t(s)];
+    double len2 = 0.0;
+    for (int axis = 0; axis < 3; ++axis)
+      if (corner_bit(slot.a, axis) != corner_bit(slot.b, axis)) len2 += h[axis] * h[axis];
+    double k = 0.0;
+    switch (slot.family) {
+      case SpringFamily::Edge:
+        // Grain anisotropy (MODEL.md §4): fibres stiffen the edges that run along them.
+        k = m.k_edge * (slot.axis == grain_axis ? m.grain_stiffness : 1.0);
+        break;
+      case SpringFamily::Face: k = m.k_face; break;
+      case SpringFamily::Body: k = m.k_body; break;
+    }
+    t.rest[std::size_t(s)] = float(std::sqrt(len2));
+    t.stiffness[std::size_t(s)] = float(k);
+    t.damping[std::size_t(s)] = float(k * m.damping);
+  }
+  return t;
+}
+
+float grip_ramp(const LoadParams& load, double t) {
+  if (load.ramp_time <= 0.0 || t >= load.ramp_time) return 1.0f;
+  return float(std::max(0.0, t) / load.ramp_time);
+}
+
+namespace {
+
+void place_nodes(World& w) {
+  const LatticeDims& d = w.topo.dims;
+  w.nodes.resize(std::size_t(d.vertices()));
+  std::uint32_t n = 0;
+  for (int k = 0; k <= d.nl; ++k)
+    for (int j = 0; j <= d.ny; ++j)
+      for (int i = 0; i <= d.nx; ++i, ++n) {
+        auto p = d.vertex_position(i, j, k);
+        w.nodes.px[n] = float(p[0]);
+        w.nodes.py[n] = float(p[1]);
+        w.nodes.pz[n] = float(p[2]);
+        w.nodes.vx[n] = w.nodes.vy[n] = w.nodes.vz[n] = 0.0f;
+        w.nodes.vertex[n] = n;
+        w.nodes.grip[n] = 0;
+        w.nodes.free_mask[n] = 1.0f;
+      }
+}
+
+void connect_cells(World& w) {
+  Topology& t = w.topo;
+  const LatticeDims& d = t.dims;
+  t.cell_nodes.resize(std::size_t(d.cells()) * 8);
+  for (auto& list : t.colour_cells) list.clear();
+  for (int k = 0; k < d.nl; ++k)
+    for (int j = 0; j < d.ny; ++j)
+      for (int i = 0; i < d.nx; ++i) {
+        std::uint32_t c = d.cell_index(i, j, k);
+        for (int q = 0; q < 8; ++q)
+          t.cell_nodes[std::size_t(c) * 8 + std::size_t(q)] = d.vertex_index(
+              i + corner_bit(q, 0), j + corner_bit(q, 1), k + corner_bit(q, 2));
+        t.colour_cells[std::size_t(LatticeDims::colour(i, j, k))].push_back(c);
+      }
+  t.cell_scale.assign(std::size_t(d.cells()), 1.0f);
+  t.cell_block.assign(std::size_t(d.cells()), 0u);
+  t.face_strain.assign(std::size_t(d.cells()) * kFacesPerCell, INFINITY);
+}
+
+// Grips hold the first and last `grip_cells` columns of vertices along the load axis, over
+// the whole width and thickness, and move them apart along that axis.
+void attach_grips(World& w) {
+  const Scene& s = w.scene;
+  const LatticeDims& d = w.topo.dims;
+  const int axis = s.load.axis == 'y' ? 1 : 0;
+  const int n_axis = axis == 0 ? d.nx : d.ny;
+  const int g = std::min(s.load.grip_cells, n_axis / 2);
+  w.grips.clear();
+  w.gripped_nodes.clear();
+  if (s.load.kind != "pull") return;  // "none": a free sheet
+  w.grips.assign(2, Grip{});
+  w.grips[0].velocity[std::size_t(axis)] = -float(s.load.speed);
+  w.grips[1].velocity[std::size_t(axis)] = float(s.load.speed);
+  for (std::uint32_t n = 0; n < w.nodes.count; ++n) {
+    auto ijk = d.vertex_ijk(w.nodes.vertex[n]);
+    int a = ijk[std::size_t(axis)];
+    int which = a <= g ? 1 : (a >= n_axis - g ? 2 : 0);
+    if (which == 0) continue;
+    w.nodes.grip[n] = std::uint8_t(which);
+    w.nodes.free_mask[n] = 0.0f;
+    w.gripped_nodes.push_back(n);
+  }
+}
+
+}  // namespace
+
+void recompute_masses(World& w) {
+  const LatticeDims& d = w.topo.dims;
+  const double cell_mass = w.scene.sheet.density * d.hx * d.hy * d.hz;
+  std::vector<double> m(w.nodes.count, 0.0);
+  for (std::size_t i = 0; i < w.topo.cell_nodes.size(); ++i) m[w.topo.cell_nodes[i]] += cell_mass / 8.0;
+  for (std::size_t n = 0; n < w.nodes.count; ++n) {
+    w.nodes.mass[n] = float(m[n]);
+    w.nodes.inv_mass[n] = m[n] > 0.0 ? float(1.0 / m[n]) : 0.0f;
+  }
+}
+
+void build_lattice(const Scene& scene, World& w) {
+  w.scene = scene;
+  w.topo.dims = LatticeDims{scene.sheet.cells[0], scene.sheet.cells[1], scene.sheet.cells[2],
+                            scene.sheet.cell_size[0], scene.sheet.cell_size[1],
+                            scene.sheet.cell_size[2]};
+  w.springs = make_spring_table(scene.material, w.topo.dims);
+  place_nodes(w);
+  connect_cells(w);
+  recompute_masses(w);
+  attach_grips(w);
+  reset_stage_state(w);
+  w.step = 0;
+  w.time = 0.0;
+  w.events.clear();
+}
+
+void reset_stage_state(World& w) {
+  const std::size_t n = w.nodes.count;
+  w.scratch.resize(n);
+  IntegratorScratch& s = w.scratch;
+  std::copy_n(w.nodes.px.data(), n, s.sx.data());
+  std::copy_n(w.nodes.py.data(), n, s.sy.data());
+  std::copy_n(w.nodes.pz.data(), n, s.sz.data());
+  std::copy_n(w.nodes.vx.data(), n, s.svx.data());
+  std::copy_n(w.nodes.vy.data(), n, s.svy.data());
+  std::copy_n(w.nodes.vz.data(), n, s.svz.data());
+  for (auto* f : {&s.fx, &s.fy, &s.fz}) std::fill_n(f->data(), n, 0.0f);
+}
+
+void NodeStore::resize(std::size_t n) {
+  count = n;
+  px.resize(n); py.resize(n); pz.resize(n);
+  vx.resize(n); vy.resize(n); vz.resize(n);
+  inv_mass.resize(n); free_mask.resize(n, 1.0f); mass.resize(n);
+  vertex.resize(n); grip.resize(n);
+}
+
+void IntegratorScratch::resize(std::size_t n) {
+  for (auto* a : {&sx, &sy, &sz, &svx, &svy, &svz, &ax, &ay, &az, &avx, &avy, &avz, &fx, &fy, &fz})
+    a->resize(n, 0.0f);
+}
+
+}  // namespace papertear

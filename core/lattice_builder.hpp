@@ -1,0 +1,21 @@
+// Builds the intact lattice of a scene: nodes at every vertex, the cell→corner→node table,
+// the colour lists, the spring table, node masses and the grips. Fibre blocks and bond
+// strengths are laid by fracture/blocks.hpp on top of it.
+#pragma once
+#include "core/world.hpp"
+
+namespace papertear {
+
+void build_lattice(const Scene& scene, World& out);
+// The 28 slots' rest length, stiffness and damping for a material on a lattice.
+SpringTable make_spring_table(const MaterialParams& material, const LatticeDims& dims);
+// Recomputes node masses from the cells that use each node (after splits: total mass is
+// unchanged because every cell always hands 1/8 of its mass to each of its 8 corners).
+void recompute_masses(World& world);
+// Sizes the RK4 scratch to the nodes and sets the stage state to the state (p, v), as it is
+// between steps (kernels/rk4.hpp).
+void reset_stage_state(World& world);
+// Grip velocity at time t: full speed after the ramp, linear before it.
+float grip_ramp(const LoadParams& load, double t);
+
+}  // namespace papertear

@@ -1,0 +1,144 @@
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <unistd.h>
+
+#include "core/memory_estimate.hpp"
+#include "core/scene.hpp"
+
+namespace papertear {
+
+const std::array<const char*, 4>& material_preset_names() {
+  static constexpr std::array<const char*, 4> names = {"copy", "coated", "washi", "kraft"};
+  return names;
+}
+
+// Presets (MODEL.md §1, §3). Strengths are edge strains at which a bond opens; the ratios
+// between them are what shapes a tear: weak block boundaries make cracks follow blocks,
+// long blocks (washi, kraft) make them wander further along the fibres before crossing.
+void apply_material_preset(MaterialParams& m, const std::string& name) {
+  MaterialParams base;  // the defaults are the `copy` preset
+  base.grain = m.grain;
+  if (name == "copy") {
+    // short wood-pulp fibres, firm layers
+  } else if (name == "coated") {
+    // copy paper with a coating: the bond under the top layer is weak, so it peels
+    base.strain_surface = 0.035;
+  } else if (name == "washi") {
+    // long kozo fibres: long blocks with large spread, strong inside, loose between
+    base.fiber_length = 14.0;
+    base.fiber_length_sigma = 0.6;
+    base.block_width = 2;
+    base.strain_intra = 0.40;
+    base.strain_inter = 0.09;
+    base.strength_jitter = 0.45;
+    base.grain_strength = 1.5;
+  } else if (name == "kraft") {
+    // long, strong softwood fibres
+    base.fiber_length = 10.0;
+    base.strain_intra = 0.45;
+    base.strain_inter = 0.16;
+    base.strain_layer = 0.20;
+    base.strain_surface = 0.20;
+    base.k_edge = 1.4;
+  } else {
+    std::string list;
+    for (const char* n : material_preset_names()) list += std::string(list.empty() ? "" : ", ") + n;
+    throw SceneError("material.preset: unknown preset '" + name + "' (known: " + list + ")");
+  }
+  base.preset = name;
+  m = base;
+}
+
+namespace {
+
+void require(bool ok, const char* key, const std::string& what) {
+  if (!ok) throw SceneError(std::string(key) + ": " + what);
+}
+void positive(double v, const char* key) {
+  require(std::isfinite(v), key, "must be a finite number");
+  require(v > 0.0, key, "must be greater than 0 (got " + std::to_string(v) + ")");
+}
+void non_negative(double v, const char* key) {
+  require(std::isfinite(v), key, "must be a finite number");
+  require(v >= 0.0, key, "must not be negative (got " + std::to_string(v) + ")");
+}
+
+void validate_sheet(const SheetParams& s) {
+  const char* keys[3] = {"sheet.cells[0] (nx)", "sheet.cells[1] (ny)", "sheet.cells[2] (layers)"};
+  for (int a = 0; a < 3; ++a)
+    require(s.cells[std::size_t(a)] >= 1, keys[a],
+            "must be at least 1 (got " + std::to_string(s.cells[std::size_t(a)]) + ")");
+  for (int a = 0; a < 3; ++a) positive(s.cell_size[std::size_t(a)], "sheet.cell_size");
+  positive(s.density, "sheet.density");
+  const std::uint64_t bytes = estimate_memory_bytes(s);
+  const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
+  if (pages > 0 && page > 0) {
+    const std::uint64_t phys = std::uint64_t(pages) * std::uint64_t(page);
+    require(bytes < phys, "sheet.cells",
+            "the sheet needs about " + std::to_string(bytes >> 20) + " MiB, more than this machine's " +
+                std::to_string(phys >> 20) + " MiB");
+  }
+  // Node ids are 32-bit and splits add nodes: keep room for every cell to come apart.
+  require(std::uint64_t(s.cells[0]) * std::uint64_t(s.cells[1]) * std::uint64_t(s.cells[2]) * 8u <
+              std::uint64_t(UINT32_MAX),
+          "sheet.cells", "too many cells for 32-bit node ids");
+}
+
+void validate_material(const MaterialParams& m) {
+  require(m.grain == 'x' || m.grain == 'y', "material.grain", "must be \"x\" or \"y\"");
+  positive(m.k_edge, "material.k_edge");
+  positive(m.k_face, "material.k_face");
+  positive(m.k_body, "material.k_body");
+  non_negative(m.damping, "material.damping");
+  positive(m.grain_stiffness, "material.grain_stiffness");
+  require(std::isfinite(m.fiber_length) && m.fiber_length >= 1.0, "material.fiber_length",
+          "must be at least 1 cell");
+  non_negative(m.fiber_length_sigma, "material.fiber_length_sigma");
+  require(m.block_width >= 1, "material.block_width", "must be at least 1");
+  require(m.block_depth >= 1, "material.block_depth", "must be at least 1");
+  non_negative(m.block_stiffness, "material.block_stiffness");
+  positive(m.strain_intra, "material.strain_intra");
+  positive(m.strain_inter, "material.strain_inter");
+  positive(m.strain_layer, "material.strain_layer");
+  positive(m.strain_surface, "material.strain_surface");
+  positive(m.grain_strength, "material.grain_strength");
+  non_negative(m.strength_jitter, "material.strength_jitter");
+  require(m.strength_jitter < 1.0, "material.strength_jitter", "must be below 1");
+}
+
+void validate_load(const LoadParams& l, const SheetParams& s) {
+  require(l.kind == "pull" || l.kind == "none", "load.kind", "must be \"pull\" or \"none\"");
+  require(l.axis == 'x' || l.axis == 'y', "load.axis", "must be \"x\" or \"y\"");
+  require(std::isfinite(l.speed), "load.speed", "must be a finite number");
+  non_negative(l.ramp_time, "load.ramp_time");
+  require(l.notch >= 0, "load.notch", "must not be negative");
+  require(l.grip_margin >= 0, "load.grip_margin", "must not be negative");
+  if (l.kind != "pull") return;
+  const int n = s.cells[l.axis == 'y' ? 1 : 0];
+  require(l.grip_cells >= 1, "load.grip_cells", "must be at least 1");
+  require(2 * l.grip_cells < n, "load.grip_cells",
+          "the two grips (" + std::to_string(l.grip_cells) + " cells each) must leave free cells between them on a sheet " +
+              std::to_string(n) + " cells long");
+  const int across = s.cells[l.axis == 'y' ? 0 : 1];
+  require(l.notch < across, "load.notch",
+          "a notch of " + std::to_string(l.notch) + " cells would cut the sheet (" + std::to_string(across) + " cells across)");
+}
+
+}  // namespace
+
+void validate(const Scene& scene) {
+  validate_sheet(scene.sheet);
+  validate_material(scene.material);
+  validate_load(scene.load, scene.sheet);
+  for (double g : scene.world.gravity) require(std::isfinite(g), "world.gravity", "must be finite");
+  non_negative(scene.world.drag, "world.drag");
+  require(scene.run.steps >= 0, "run.steps", "must not be negative");
+  non_negative(scene.run.dt, "run.dt");
+  positive(scene.run.dt_safety, "run.dt_safety");
+  require(scene.run.dt_safety <= 1.0, "run.dt_safety", "must be at most 1");
+  require(scene.run.frames >= 1, "run.frames", "must be at least 1");
+  require(scene.run.max_splits_per_step >= 0, "run.max_splits_per_step", "must not be negative");
+}
+
+}  // namespace papertear

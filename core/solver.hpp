@@ -1,0 +1,35 @@
+// One time step of the solver: four RK4 stages, each a force evaluation and a node update.
+//
+// Per stage, in this order (each line is one or more parallel regions; kernels/parallel.hpp
+// explains why the result does not depend on the thread count):
+//   1. fine springs, colour 0 .. 7       parallel over the cells of one colour (no shared nodes)
+//   2. block-lattice springs             parallel per spring, then a serial scatter in spring order
+//   3. node update (kernels/rk4.hpp)     parallel over nodes; clears forces for the next stage
+// Gripped nodes get their prescribed velocity before stage 1. After stage 4 the step checks
+// for a blow-up (non-finite or runaway state) and throws BlowUpError naming the step and node.
+// Fracture (fracture/fracture_pass.hpp) runs after the step, serially.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "core/world.hpp"
+#include "kernels/coarse_forces.hpp"
+
+namespace papertear {
+
+struct SolverScratch {
+  CoarseForceScratch coarse;
+  std::vector<std::uint32_t> bad;  // per node chunk: the first node that blew up
+};
+
+// Chunk sizes (elements per task). Fixed numbers, never derived from the thread count.
+inline constexpr std::size_t kCellChunk = 512;
+inline constexpr std::size_t kNodeChunk = 2048;
+inline constexpr std::size_t kSpringChunk = 4096;
+
+// Evaluates all spring forces at the stage state into scratch.fx/fy/fz (which must be zero).
+void evaluate_forces(World& world, SolverScratch& scratch);
+// One RK4 step (no fracture); advances world.time but not world.step.
+void integrate_step(World& world, SolverScratch& scratch);
+
+}  // namespace papertear

@@ -1,0 +1,172 @@
+#include "fracture/fracture_pass.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "core/solver.hpp"
+#include "fracture/node_cells.hpp"
+#include "kernels/parallel.hpp"
+#include "kernels/spring.hpp"
+
+namespace papertear {
+namespace {
+
+constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+
+float edge_strain(const World& w, std::uint32_t cell, int slot) {
+  const SpringSlot& s = kSpringSlots[std::size_t(slot)];
+  const std::uint32_t a = w.topo.node(cell, s.a), b = w.topo.node(cell, s.b);
+  const float dx = w.nodes.px[b] - w.nodes.px[a], dy = w.nodes.py[b] - w.nodes.py[a],
+              dz = w.nodes.pz[b] - w.nodes.pz[a];
+  const float rest = w.springs.rest[std::size_t(slot)];
+  return (std::sqrt(dx * dx + dy * dy + dz * dz) - rest) / rest;
+}
+
+float face_strength(const World& w, std::uint32_t cell, int axis, int side) {
+  return w.topo.face_strain[std::size_t(cell) * kFacesPerCell + std::size_t(2 * axis + side)];
+}
+
+void detect(std::size_t begin, std::size_t end, const World& w, std::vector<FractureCandidate>& out) {
+  out.clear();
+  for (std::size_t c = begin; c < end; ++c)
+    for (int s = 0; s < kEdgesPerCell; ++s) {
+      const int axis = kSpringSlots[std::size_t(s)].axis;
+      const float weaker = std::min(face_strength(w, std::uint32_t(c), axis, 0),
+                                    face_strength(w, std::uint32_t(c), axis, 1));
+      const float strain = edge_strain(w, std::uint32_t(c), s);
+      if (strain > weaker) out.push_back({strain / weaker, std::uint32_t(c) * kSpringsPerCell + std::uint32_t(s)});
+    }
+}
+
+// Σ|f| over the springs attached to a node: its cells' fine springs and intact block springs.
+double force_sum(const World& w, std::uint32_t node) {
+  const NodeStore& n = w.nodes;
+  auto magnitude = [&](std::uint32_t a, std::uint32_t b, float rest, float k, float c) {
+    return double(eval_spring(n.px[a], n.py[a], n.pz[a], n.px[b], n.py[b], n.pz[b], n.vx[a], n.vy[a],
+                              n.vz[a], n.vx[b], n.vy[b], n.vz[b], rest, k, c).magnitude);
+  };
+  double sum = 0.0;
+  for (const CellCorner& cc : cells_of_node(w, node)) {
+    const float scale = w.topo.cell_scale[cc.cell];
+    for (int s = 0; s < kSpringsPerCell; ++s) {
+      const SpringSlot& slot = kSpringSlots[std::size_t(s)];
+      if (slot.a != cc.corner && slot.b != cc.corner) continue;
+      sum += magnitude(w.topo.node(cc.cell, slot.a), w.topo.node(cc.cell, slot.b), w.springs.rest[std::size_t(s)],
+                       scale * w.springs.stiffness[std::size_t(s)], scale * w.springs.damping[std::size_t(s)]);
+    }
+    const Block& blk = w.blocks[w.topo.cell_block[cc.cell]];
+    if (!blk.intact) continue;
+    const CoarseSprings& cs = w.coarse;
+    for (std::uint32_t i = blk.first_spring; i < blk.first_spring + blk.spring_count; ++i)
+      if ((cs.cell_a[i] == cc.cell && cs.corner_a[i] == cc.corner) ||
+          (cs.cell_b[i] == cc.cell && cs.corner_b[i] == cc.corner))
+        sum += magnitude(w.topo.node(cs.cell_a[i], cs.corner_a[i]), w.topo.node(cs.cell_b[i], cs.corner_b[i]),
+                         cs.rest[i], cs.stiffness[i], cs.damping[i]);
+  }
+  return sum;
+}
+
+// True when some cell using `node` lies on the other side of the plane than `side`.
+bool shared_across(const World& w, std::uint32_t node, int axis, int side) {
+  for (const CellCorner& cc : cells_of_node(w, node))
+    if (corner_bit(cc.corner, axis) != side) return true;
+  return false;
+}
+
+void enter_block(World& w, std::uint32_t b) {
+  Block& blk = w.blocks[b];
+  if (!blk.intact) return;
+  blk.intact = false;
+  for (std::uint32_t i = blk.first_spring; i < blk.first_spring + blk.spring_count; ++i)
+    w.coarse.stiffness[i] = w.coarse.damping[i] = 0.0f;
+}
+
+void copy_node(World& w, std::uint32_t from, std::uint32_t to) {
+  NodeStore& n = w.nodes;
+  n.px[to] = n.px[from]; n.py[to] = n.py[from]; n.pz[to] = n.pz[from];
+  n.vx[to] = n.vx[from]; n.vy[to] = n.vy[from]; n.vz[to] = n.vz[from];
+  n.vertex[to] = n.vertex[from];
+  n.grip[to] = n.grip[from];
+  n.free_mask[to] = n.free_mask[from];
+  IntegratorScratch& s = w.scratch;
+  s.sx[to] = n.px[to]; s.sy[to] = n.py[to]; s.sz[to] = n.pz[to];
+  s.svx[to] = n.vx[to]; s.svy[to] = n.vy[to]; s.svz[to] = n.vz[to];
+  if (n.grip[to] != 0) w.gripped_nodes.push_back(to);  // the newest id: the list stays ascending
+}
+
+void set_mass(World& w, std::uint32_t node, int cells) {
+  const LatticeDims& d = w.topo.dims;
+  const double m = w.scene.sheet.density * d.hx * d.hy * d.hz / 8.0 * cells;
+  w.nodes.mass[node] = float(m);
+  w.nodes.inv_mass[node] = float(1.0 / m);
+}
+
+// Tries to split the end of edge spring (cell, slot) chosen by the paper's rule; returns
+// whether a split happened.
+bool break_spring(World& w, std::uint32_t cell, int slot) {
+  const SpringSlot& s = kSpringSlots[std::size_t(slot)];
+  const int axis = s.axis;
+  const float strain = edge_strain(w, cell, slot);
+  std::uint32_t end_node[2] = {w.topo.node(cell, s.a), w.topo.node(cell, s.b)};
+  bool eligible[2];
+  for (int side = 0; side < 2; ++side)
+    eligible[side] = strain > face_strength(w, cell, axis, side) && shared_across(w, end_node[side], axis, side);
+  int side;
+  if (eligible[0] && eligible[1]) side = force_sum(w, end_node[1]) > force_sum(w, end_node[0]) ? 1 : 0;
+  else if (eligible[0]) side = 0;
+  else if (eligible[1]) side = 1;
+  else return false;
+  const std::uint32_t fresh = split_node(w, end_node[side], axis, side);
+  if (fresh == kNone) return false;
+  w.events.push_back({w.step + 1, end_node[side], fresh, std::uint8_t(axis), axis == 2, cell, std::uint8_t(slot)});
+  return true;
+}
+
+}  // namespace
+
+std::uint32_t split_node(World& w, std::uint32_t node, int axis, int side) {
+  const NodeCells cells = cells_of_node(w, node);
+  int moving = 0;
+  for (const CellCorner& cc : cells) moving += corner_bit(cc.corner, axis) == side;
+  if (moving == 0 || moving == cells.count) return kNone;
+  const auto fresh = std::uint32_t(w.nodes.count);
+  w.nodes.resize(w.nodes.count + 1);
+  w.scratch.resize(w.nodes.count);
+  copy_node(w, node, fresh);
+  for (const CellCorner& cc : cells)
+    if (corner_bit(cc.corner, axis) == side)
+      w.topo.cell_nodes[std::size_t(cc.cell) * 8 + cc.corner] = fresh;
+  set_mass(w, node, cells.count - moving);
+  set_mass(w, fresh, moving);
+  // A block with cells on both sides has been entered by the crack.
+  for (const CellCorner& a : cells)
+    for (const CellCorner& b : cells)
+      if (corner_bit(a.corner, axis) == side && corner_bit(b.corner, axis) != side &&
+          w.topo.cell_block[a.cell] == w.topo.cell_block[b.cell])
+        enter_block(w, w.topo.cell_block[a.cell]);
+  return fresh;
+}
+
+std::size_t fracture_pass(World& w, FractureScratch& scratch) {
+  const std::size_t cells = std::size_t(w.topo.dims.cells());
+  scratch.per_chunk.resize(chunk_count(cells, kCellChunk));
+  parallel_chunks(cells, kCellChunk, [&](std::size_t b, std::size_t e, std::size_t c) {
+    detect(b, e, w, scratch.per_chunk[c]);
+  });
+  scratch.all.clear();
+  for (const auto& part : scratch.per_chunk) scratch.all.insert(scratch.all.end(), part.begin(), part.end());
+  if (scratch.all.empty()) return 0;
+  std::sort(scratch.all.begin(), scratch.all.end(), [](const FractureCandidate& a, const FractureCandidate& b) {
+    return a.ratio != b.ratio ? a.ratio > b.ratio : a.id < b.id;
+  });
+  const int cap = w.scene.run.max_splits_per_step;
+  std::size_t splits = 0;
+  for (const FractureCandidate& cand : scratch.all) {
+    if (cap > 0 && splits >= std::size_t(cap)) break;
+    splits += break_spring(w, cand.id / kSpringsPerCell, int(cand.id % kSpringsPerCell));
+  }
+  return splits;
+}
+
+}  // namespace papertear

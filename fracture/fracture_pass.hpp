@@ -1,0 +1,43 @@
+// The fracture pass (MODEL.md §5), run after every step.
+//
+//  1. Detection, parallel over cells: an EDGE spring whose strain (L - L0)/L0 exceeds the
+//     strength of the bond at either of its ends (the cell face the end lies on,
+//     topo.face_strain) becomes a candidate. Diagonal springs never break. Each fixed chunk
+//     of cells writes its own candidate list; the lists are joined in chunk order.
+//  2. One serial pass in a fixed order — largest overstrain (strain / strength) first, then
+//     lowest spring id — applies the splits: of the ends whose bond is exceeded and that are
+//     still shared with cells across the plane through the end perpendicular to the spring,
+//     the one whose force sum Σ|f| is larger is split (MODEL.md decision). The cells on the
+//     spring's side of that plane get a new node (same position and velocity); their fine and
+//     block springs follow because springs name (cell, corner), not nodes. Masses are
+//     recomputed from cells. A block whose cells end up on both sides of a split is entered
+//     by the crack: its block springs are removed for good.
+// Being serial and ordered, the pass gives the same result on any number of threads.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "core/world.hpp"
+
+namespace papertear {
+
+struct FractureCandidate {
+  float ratio;       // strain / weaker end's strength, > 1
+  std::uint32_t id;  // cell * 28 + slot
+};
+
+struct FractureScratch {
+  std::vector<std::vector<FractureCandidate>> per_chunk;
+  std::vector<FractureCandidate> all;
+};
+
+// Runs detection and the splits for the world's current state; returns the number of splits.
+std::size_t fracture_pass(World& world, FractureScratch& scratch);
+
+// Splits `node` by the plane through it normal to `axis`: the cells using it on the side
+// given by `side` (1: cells for which the node is on their high face along axis, i.e. cells
+// below the plane; 0: cells above) get a new node. Returns the new node id, or UINT32_MAX if
+// either side has no cell (nothing to split). Updates masses, grips, blocks and scratch sizes.
+std::uint32_t split_node(World& world, std::uint32_t node, int axis, int side);
+
+}  // namespace papertear

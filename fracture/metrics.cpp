@@ -1,0 +1,125 @@
+#include "fracture/metrics.hpp"
+
+#include <algorithm>
+#include <numeric>
+#include <vector>
+
+#include "fracture/connectivity.hpp"
+#include "kernels/energy.hpp"
+#include "kernels/spring.hpp"
+
+namespace papertear {
+namespace {
+
+struct DisjointSets {
+  std::vector<std::uint32_t> parent;
+  explicit DisjointSets(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
+  std::uint32_t find(std::uint32_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  }
+  void unite(std::uint32_t a, std::uint32_t b) {
+    a = find(a), b = find(b);
+    if (a != b) parent[std::max(a, b)] = std::min(a, b);
+  }
+};
+
+// Pieces: cells joined through any shared node.
+std::int64_t count_pieces(const World& w) {
+  const std::size_t cells = std::size_t(w.topo.dims.cells());
+  DisjointSets sets(cells);
+  std::vector<std::uint32_t> first_cell(w.nodes.count, UINT32_MAX);
+  for (std::uint32_t c = 0; c < cells; ++c)
+    for (int q = 0; q < 8; ++q) {
+      const std::uint32_t n = w.topo.node(c, q);
+      if (first_cell[n] == UINT32_MAX) first_cell[n] = c;
+      else sets.unite(c, first_cell[n]);
+    }
+  std::int64_t pieces = 0;
+  for (std::uint32_t c = 0; c < cells; ++c) pieces += sets.find(c) == c;
+  return pieces;
+}
+
+// Torn faces of the top layer: their total length and the path's roughness.
+void measure_top_edges(const World& w, Metrics& m) {
+  const LatticeDims& d = w.topo.dims;
+  const int k = d.nl - 1;
+  double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
+  double length = 0.0;
+  for (int j = 0; j < d.ny; ++j)
+    for (int i = 0; i < d.nx; ++i)
+      for (int axis = 0; axis < 2; ++axis) {
+        if ((axis == 0 ? i + 1 : j + 1) >= (axis == 0 ? d.nx : d.ny)) continue;
+        if (faces_connected(w, d.cell_index(i, j, k), 2 * axis + 1)) continue;
+        length += axis == 0 ? d.hy : d.hx;
+        const double centre[2] = {(i + (axis == 0 ? 1.0 : 0.5)) * d.hx, (j + (axis == 1 ? 1.0 : 0.5)) * d.hy};
+        for (int a = 0; a < 2; ++a) {
+          lo[a] = std::min(lo[a], centre[a]);
+          hi[a] = std::max(hi[a], centre[a]);
+        }
+      }
+  m.torn_edge_length = length;
+  if (length == 0.0) return;
+  const double extent = std::max(hi[0] - lo[0] + d.hx, hi[1] - lo[1] + d.hy);
+  m.edge_roughness = length / extent;
+}
+
+double peeled_area(const World& w) {
+  const LatticeDims& d = w.topo.dims;
+  double area = 0.0;
+  for (int k = 0; k + 1 < d.nl; ++k)
+    for (int j = 0; j < d.ny; ++j)
+      for (int i = 0; i < d.nx; ++i)
+        if (!faces_connected(w, d.cell_index(i, j, k), 5)) area += d.hx * d.hy;
+  return area;
+}
+
+// The pull the sheet exerts on the +axis grip, along the pull axis (positive: tension, i.e.
+// the sheet pulls the grip back towards -axis; the force on the grip nodes is then negative).
+double grip_force(const World& w) {
+  if (w.grips.size() < 2) return 0.0;
+  const int axis = w.scene.load.axis == 'y' ? 1 : 0;
+  const NodeStore& n = w.nodes;
+  double total = 0.0;
+  auto add = [&](std::uint32_t a, std::uint32_t b, float rest, float k, float c) {
+    const bool ga = n.grip[a] == 2, gb = n.grip[b] == 2;
+    if (ga == gb) return;  // both in the grip (internal, cancels) or neither
+    const SpringEval e = eval_spring(n.px[a], n.py[a], n.pz[a], n.px[b], n.py[b], n.pz[b], n.vx[a], n.vy[a], n.vz[a],
+                                     n.vx[b], n.vy[b], n.vz[b], rest, k, c);
+    const float f[3] = {e.fx, e.fy, e.fz};  // on a
+    total += ga ? -f[axis] : f[axis];
+  };
+  for (std::uint32_t c = 0; c < std::uint32_t(w.topo.dims.cells()); ++c) {
+    const float s = w.topo.cell_scale[c];
+    for (int i = 0; i < kSpringsPerCell; ++i) {
+      const SpringSlot& slot = kSpringSlots[std::size_t(i)];
+      add(w.topo.node(c, slot.a), w.topo.node(c, slot.b), w.springs.rest[std::size_t(i)],
+          s * w.springs.stiffness[std::size_t(i)], s * w.springs.damping[std::size_t(i)]);
+    }
+  }
+  const CoarseSprings& cs = w.coarse;
+  for (std::size_t i = 0; i < cs.size(); ++i)
+    add(w.topo.node(cs.cell_a[i], cs.corner_a[i]), w.topo.node(cs.cell_b[i], cs.corner_b[i]), cs.rest[i],
+        cs.stiffness[i], cs.damping[i]);
+  return total;
+}
+
+}  // namespace
+
+Metrics measure(const World& w) {
+  Metrics m;
+  m.step = w.step;
+  m.time = w.time;
+  for (const SplitEvent& e : w.events) (e.interlayer ? m.splits_interlayer : m.splits_inplane) += 1;
+  m.pieces = count_pieces(w);
+  measure_top_edges(w, m);
+  m.peeled_area = peeled_area(w);
+  m.grip_force = grip_force(w);
+  m.kinetic_energy = kinetic_energy(0, w.nodes.count, w.nodes);
+  m.elastic_energy = cell_elastic_energy(0, std::size_t(w.topo.dims.cells()), w) +
+                     coarse_elastic_energy(0, w.coarse.size(), w);
+  m.intact_blocks = std::count_if(w.blocks.begin(), w.blocks.end(), [](const Block& b) { return b.intact; });
+  return m;
+}
+
+}  // namespace papertear

@@ -1,0 +1,47 @@
+// Spring forces of the fine lattice, computed cell by cell (MODEL.md §4).
+//
+// Data flow: reads node positions and velocities (stage state), the cell→corner→node table,
+// the per-cell stiffness factor and the 28-slot spring table; adds each cell's corner forces
+// into the node force columns.
+//
+// Why it is race-free and deterministic: a call only ever gets cells of ONE colour
+// (i%2, j%2, k%2), and cells of one colour share no node (core/world.hpp), so the scatter
+// never writes a node twice, from any thread. The caller runs the 8 colours one after
+// another in a fixed order, so each node's force is the sum of its cells' contributions in
+// colour order: the same bits on every thread count.
+//
+// Why cell-centric: a cell's 28 springs touch only its 8 corners, so the corners are loaded
+// once and the 28 springs are evaluated in registers, several cells per vector lane. Corner
+// values are fetched with plain scalar loads into a small aligned buffer and then loaded as
+// vectors (on the development machine hardware gathers were slower).
+//
+// Force of one spring (a → b), Hooke plus damping along the spring:
+//   d = x_b - x_a,  L = |d|,  f_a = (k (L - L0) + c (Δv · d) / L) d / L,  f_b = -f_a.
+#pragma once
+#include <cstddef>
+#include <cstdint>
+
+#include "core/world.hpp"
+
+namespace papertear {
+
+struct CellForceInputs {
+  const float *px, *py, *pz;  // stage positions
+  const float *vx, *vy, *vz;  // stage velocities
+  const std::uint32_t* cell_nodes;
+  const float* cell_scale;
+  const SpringTable* table;
+};
+
+struct ForceOutputs {
+  float *fx, *fy, *fz;
+};
+
+// Adds the spring forces of cells[begin, end) into out. All cells must share a colour.
+void add_cell_forces(std::size_t begin, std::size_t end, const std::uint32_t* cells,
+                     const CellForceInputs& in, const ForceOutputs& out);
+// The same with the scalar lane type only (for tests and the SIMD-off comparison).
+void add_cell_forces_scalar(std::size_t begin, std::size_t end, const std::uint32_t* cells,
+                            const CellForceInputs& in, const ForceOutputs& out);
+
+}  // namespace papertear

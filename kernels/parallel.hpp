@@ -1,0 +1,51 @@
+// The only place that talks to TBB. Work is cut into fixed-size chunks [c*chunk, (c+1)*chunk)
+// whose boundaries depend on the problem size alone, never on the number of threads, and
+// chunks are handed out with tbb::simple_partitioner (grain 1 chunk), so which thread runs a
+// chunk may vary but what each chunk computes does not. Kernels write disjoint outputs per
+// element; nothing is accumulated across chunks except through per-chunk slots that a serial
+// pass then combines in chunk order. Hence the bits never depend on the thread count.
+#pragma once
+#include <cstddef>
+#include <vector>
+
+#include <oneapi/tbb/blocked_range.h>
+#include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/partitioner.h>
+
+namespace papertear {
+
+inline std::size_t chunk_count(std::size_t n, std::size_t chunk) { return (n + chunk - 1) / chunk; }
+
+// Calls body(begin, end, chunk_index) for every chunk of [0, n); chunks may run in parallel.
+template <class Body>
+void parallel_chunks(std::size_t n, std::size_t chunk, const Body& body) {
+  const std::size_t chunks = chunk_count(n, chunk);
+  if (chunks == 0) return;
+  if (chunks == 1) {
+    body(std::size_t(0), n, std::size_t(0));
+    return;
+  }
+  tbb::parallel_for(
+      tbb::blocked_range<std::size_t>(0, chunks, 1),
+      [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t c = r.begin(); c != r.end(); ++c) {
+          const std::size_t b = c * chunk;
+          const std::size_t e = b + chunk < n ? b + chunk : n;
+          body(b, e, c);
+        }
+      },
+      tbb::simple_partitioner());
+}
+
+// A sum whose bits do not depend on the thread count: partial sums per fixed chunk, then a
+// serial sum in chunk order.
+template <class T, class Body>
+T deterministic_sum(std::size_t n, std::size_t chunk, const Body& partial) {
+  std::vector<T> parts(chunk_count(n, chunk), T{});
+  parallel_chunks(n, chunk, [&](std::size_t b, std::size_t e, std::size_t c) { parts[c] = partial(b, e); });
+  T total{};
+  for (const T& p : parts) total += p;
+  return total;
+}
+
+}  // namespace papertear
