@@ -23,23 +23,23 @@ void apply_material_preset(MaterialParams& m, const std::string& name) {
     // short wood-pulp fibres, firm layers
   } else if (name == "coated") {
     // copy paper with a coating: the bond under the top layer is weak, so it peels
-    base.strain_surface = 0.035;
+    base.strain_surface = 0.05;
   } else if (name == "washi") {
     // long kozo fibres: long blocks with large spread, strong inside, loose between
-    base.fiber_length = 14.0;
+    base.fiber_length = 16.0;
     base.fiber_length_sigma = 0.6;
     base.block_width = 2;
-    base.strain_intra = 0.40;
-    base.strain_inter = 0.09;
-    base.strength_jitter = 0.45;
+    base.strain_intra = 0.20;
+    base.strain_inter = 0.08;
+    base.strength_jitter = 0.2;
     base.grain_strength = 1.5;
   } else if (name == "kraft") {
     // long, strong softwood fibres
     base.fiber_length = 10.0;
-    base.strain_intra = 0.45;
-    base.strain_inter = 0.16;
-    base.strain_layer = 0.20;
-    base.strain_surface = 0.20;
+    base.strain_intra = 0.18;
+    base.strain_inter = 0.14;
+    base.strain_layer = 0.25;
+    base.strain_surface = 0.25;
     base.k_edge = 1.4;
   } else {
     std::string list;

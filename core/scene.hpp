@@ -34,25 +34,25 @@ struct MaterialParams {
                                  // stress waves each split sends out, so cracks stay sharp
   double grain_stiffness = 1.5;  // edge stiffness along the grain / across it
   // Fibre blocks: staggered bricks of cells.
-  double fiber_length = 6.0;        // mean block length along the grain, in cells
+  double fiber_length = 4.0;        // mean block length along the grain, in cells
   double fiber_length_sigma = 0.4;  // sigma of the log-normal length distribution
   int block_width = 2;              // blocks are 1..block_width cells across the grain
   int block_depth = 2;              // and 1..block_depth layers deep
   double block_stiffness = 0.3;     // coarse block-lattice spring stiffness, relative
   // Strength: the edge strain (|d| - L0) / L0 at which a bond opens.
-  double strain_intra = 0.20;    // inside a block
-  double strain_inter = 0.08;    // between blocks in plane
-  double strain_layer = 0.12;    // between layers (different blocks)
-  double strain_surface = 0.12;  // between the top layer and the one below (coated: weak)
+  double strain_intra = 0.12;    // inside a block
+  double strain_inter = 0.10;    // between blocks (fibre-to-fibre bonding)
+  double strain_layer = 0.20;    // between layers (different blocks)
+  double strain_surface = 0.20;  // between the top layer and the one below (coated: weak)
   double grain_strength = 1.3;   // strength of faces normal to the grain / of the others
-  double strength_jitter = 0.25; // relative spread of the per-block strength factor
+  double strength_jitter = 0.05; // relative spread of the per-block strength factor
 };
 
 struct LoadParams {
   std::string kind = "pull";  // pull: grips at both ends of `axis` move apart
   char axis = 'x';            // the pulling direction
   int grip_cells = 2;         // each grip holds this many cell columns at its end
-  double speed = 0.02;        // each grip's speed, in cell sizes per unit time
+  double speed = 0.05;        // each grip's speed, in cell sizes per unit time
   double ramp_time = 20.0;    // grips accelerate linearly to `speed` over this time
   int grip_margin = 4;        // bonds this many cells beyond each grip never break: the
                               // specimen's tabs, so it fails in its body and not at the clamp

@@ -1,41 +1,69 @@
 #include "core/timestep.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <complex>
 #include <sstream>
 #include <vector>
 
 namespace papertear {
 
-double stable_dt_limit(const World& w) {
-  std::vector<double> ksum(w.nodes.count, 0.0), csum(w.nodes.count, 0.0);
+namespace {
+
+// λ_K: the Gershgorin bound on the eigenvalues of M⁻¹K.
+double stiffness_bound(const World& w) {
+  std::vector<double> ksum(w.nodes.count, 0.0);
   const std::size_t cells = std::size_t(w.topo.dims.cells());
   for (std::size_t c = 0; c < cells; ++c)
     for (int s = 0; s < kSpringsPerCell; ++s) {
       const SpringSlot& slot = kSpringSlots[std::size_t(s)];
       const double k = double(w.topo.cell_scale[c]) * w.springs.stiffness[std::size_t(s)];
-      const double cd = double(w.topo.cell_scale[c]) * w.springs.damping[std::size_t(s)];
-      for (std::uint8_t q : {slot.a, slot.b}) {
-        const std::uint32_t n = w.topo.node(std::uint32_t(c), q);
-        ksum[n] += k;
-        csum[n] += cd;
-      }
+      ksum[w.topo.node(std::uint32_t(c), slot.a)] += k;
+      ksum[w.topo.node(std::uint32_t(c), slot.b)] += k;
     }
-  for (std::size_t i = 0; i < w.coarse.size(); ++i)
-    for (auto [cell, corner] : {std::pair{w.coarse.cell_a[i], w.coarse.corner_a[i]},
-                                std::pair{w.coarse.cell_b[i], w.coarse.corner_b[i]}}) {
-      const std::uint32_t n = w.topo.node(cell, corner);
-      ksum[n] += w.coarse.stiffness[i];
-      csum[n] += w.coarse.damping[i];
-    }
-  double mu_max = 0.0;
-  for (std::size_t n = 0; n < w.nodes.count; ++n) {
-    if (w.nodes.mass[n] <= 0.0f) continue;
-    const double m = w.nodes.mass[n];
-    const double lk = 2.0 * ksum[n] / m;
-    const double lc = 2.0 * csum[n] / m + w.scene.world.drag;
-    mu_max = std::max(mu_max, 0.5 * (lc + std::sqrt(lc * lc + 4.0 * lk)));
+  for (std::size_t i = 0; i < w.coarse.size(); ++i) {
+    ksum[w.topo.node(w.coarse.cell_a[i], w.coarse.corner_a[i])] += w.coarse.stiffness[i];
+    ksum[w.topo.node(w.coarse.cell_b[i], w.coarse.corner_b[i])] += w.coarse.stiffness[i];
   }
-  return mu_max > 0.0 ? kRk4StabilityRadius / mu_max : INFINITY;
+  double bound = 0.0;
+  for (std::size_t n = 0; n < w.nodes.count; ++n)
+    if (w.nodes.mass[n] > 0.0f) bound = std::max(bound, 2.0 * ksum[n] / w.nodes.mass[n]);
+  return bound;
+}
+
+bool rk4_stable(std::complex<double> z) {
+  const std::complex<double> r = 1.0 + z * (1.0 + z * (0.5 + z * (1.0 / 6.0 + z / 24.0)));
+  return std::abs(r) <= 1.0 + 1e-12;
+}
+
+// Whether every mode with ω² in [0, lambda] is stable at step dt.
+bool all_modes_stable(double dt, double lambda, double damping, double drag) {
+  constexpr int kSamples = 2048;
+  for (int i = 0; i <= kSamples; ++i) {
+    const double t = double(i) / kSamples;
+    const double w2 = lambda * t * t;  // denser near 0, where drag matters
+    const double b = damping * w2 + drag;
+    const std::complex<double> root = std::sqrt(std::complex<double>(b * b - 4.0 * w2, 0.0));
+    if (!rk4_stable(dt * 0.5 * (-b + root)) || !rk4_stable(dt * 0.5 * (-b - root))) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+double stable_dt_limit(const World& w) {
+  const double lambda = stiffness_bound(w);
+  const double damping = w.scene.material.damping, drag = w.scene.world.drag;
+  if (lambda == 0.0 && drag == 0.0) return INFINITY;
+  // |μ| ≤ (b + sqrt(b² + 4 ω²)) / 2 and RK4 is unstable beyond |z| = 2.9, so this dt is not.
+  const double b = damping * lambda + drag;
+  double lo = 0.0, hi = 2.9 * 2.0 / (b + std::sqrt(b * b + 4.0 * lambda)) * 4.0;
+  while (all_modes_stable(hi, lambda, damping, drag)) hi *= 2.0;
+  for (int i = 0; i < 60; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (all_modes_stable(mid, lambda, damping, drag) ? lo : hi) = mid;
+  }
+  return lo;
 }
 
 double choose_dt(const World& w) {

@@ -1,18 +1,18 @@
 // The largest stable time step of explicit RK4 on this lattice (MODEL.md §4).
 //
-// Linearised, the system is M ẍ + C ẋ + K x = 0. By block Gershgorin on M⁻¹K (each spring
-// contributes k d̂d̂ᵀ, of norm k, to its two nodes' diagonal blocks and off-diagonal block)
-// every eigenvalue satisfies λ_K ≤ max_n 2 Σk_n / m_n; likewise λ_C ≤ max_n 2 Σc_n / m_n + drag.
-// A mode's RK4 eigenvalue μ solves μ² + c μ + k = 0 with c ≤ λ_C, k ≤ λ_K, so
-// |μ| ≤ (λ_C + sqrt(λ_C² + 4 λ_K)) / 2. RK4 is stable for dt |μ| inside its stability region,
-// which contains the left half-disc of radius 2.5 (it reaches 2.83 on the imaginary axis and
-// 2.79 on the real axis), hence dt_max = 2.5 / |μ|max.
+// Linearised, the system is M ẍ + C ẋ + K x = 0. Every spring, fine or block, has damping
+// c = d·k (d = material.damping), so C = d·K + drag·M, and a mode of M⁻¹K with eigenvalue
+// ω² evolves with the roots μ of   μ² + (d ω² + drag) μ + ω² = 0.
+// By block Gershgorin on M⁻¹K (a spring adds k d̂d̂ᵀ, of norm k, to its nodes' diagonal
+// blocks and to their off-diagonal block), every ω² ≤ λ_K = max_n 2 Σk_n / m_n.
+// RK4 multiplies a mode by R(z) = 1 + z + z²/2 + z³/6 + z⁴/24 with z = dt μ per step, so dt
+// is stable when |R(dt μ)| ≤ 1 for both roots at every ω² in [0, λ_K]. The limit is found by
+// bisection on dt, checking ω² on a fine grid. (Checking the roots against the exact RK4
+// region matters: a disc-shaped bound would halve the step whenever damping is on.)
 #pragma once
 #include "core/world.hpp"
 
 namespace papertear {
-
-inline constexpr double kRk4StabilityRadius = 2.5;
 
 double stable_dt_limit(const World& world);
 

@@ -79,8 +79,11 @@ float bond_strain(const World& w, std::uint32_t c, std::uint32_t n, int axis, in
   if (bc == bn) s = m.strain_intra;
   else if (axis != 2) s = m.strain_inter;
   else s = (k_low == w.topo.dims.nl - 2) ? m.strain_surface : m.strain_layer;
-  // Breaking a face normal to the grain breaks fibres: stronger (MODEL.md §1).
-  if (axis == (m.grain == 'y' ? 1 : 0)) s *= m.grain_strength;
+  // Opening a block's face normal to the grain breaks its fibres: stronger (MODEL.md §1).
+  // Between blocks the bond is fibre-to-fibre bonding, as weak across as along the grain:
+  // weaker along-grain boundaries would split open ahead of every crack tip (where the
+  // stress parallel to the crack is as large as the opening stress) and blunt it.
+  if (bc == bn && axis == (m.grain == 'y' ? 1 : 0)) s *= m.grain_strength;
   return float(s * strength);
 }
 
@@ -94,7 +97,9 @@ bool in_grip_tab(const World& w, int i, int j) {
   return along < tab || along >= n - tab;
 }
 
-void assign_face_strengths(World& w) {
+}  // namespace
+
+void assign_bond_strengths(World& w) {
   const LatticeDims& d = w.topo.dims;
   for (int k = 0; k < d.nl; ++k)
     for (int j = 0; j < d.ny; ++j)
@@ -111,6 +116,8 @@ void assign_face_strengths(World& w) {
         }
       }
 }
+
+namespace {
 
 // The block lattice: the 28 corner pairs of each block (same pattern as a cell's springs),
 // each end named by the block's corner cell and its corner. Stiffness scales like a bar of
@@ -134,6 +141,9 @@ void add_block_springs(World& w) {
     };
     for (int s = 0; s < kSpringsPerCell; ++s) {
       const SpringSlot& slot = kSpringSlots[std::size_t(s)];
+      // In a block one cell thin along some axis, corners on either side of that axis lie in
+      // the same cell: such a spring would only duplicate the cell's own spring.
+      if (corner_cell(slot.a) == corner_cell(slot.b)) continue;
       double len2 = 0.0;
       for (int a = 0; a < 3; ++a)
         if (corner_bit(slot.a, a) != corner_bit(slot.b, a)) {
@@ -160,7 +170,7 @@ void add_block_springs(World& w) {
 void lay_fibre_blocks(World& w) {
   Random rng(w.scene.run.seed * 0x9e3779b97f4a7c15ull + 0x7061706572ull);
   lay_blocks(w, rng);
-  assign_face_strengths(w);
+  assign_bond_strengths(w);
   add_block_springs(w);
 }
 

@@ -10,5 +10,8 @@ namespace papertear {
 // Fills world.blocks, topo.cell_block, topo.face_strain and world.coarse for an intact
 // lattice built by build_lattice.
 void lay_fibre_blocks(World& world);
+// Recomputes every face's bond strength (topo.face_strain) from topo.cell_block and the
+// blocks' strength factors, e.g. after a test lays out blocks by hand.
+void assign_bond_strengths(World& world);
 
 }  // namespace papertear

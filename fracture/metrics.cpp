@@ -1,6 +1,7 @@
 #include "fracture/metrics.hpp"
 
 #include <algorithm>
+#include <array>
 #include <numeric>
 #include <vector>
 
@@ -24,8 +25,8 @@ struct DisjointSets {
   }
 };
 
-// Pieces: cells joined through any shared node.
-std::int64_t count_pieces(const World& w) {
+// Pieces: cells joined through any shared node. Returns each cell's piece (its lowest cell).
+std::vector<std::uint32_t> label_pieces(const World& w) {
   const std::size_t cells = std::size_t(w.topo.dims.cells());
   DisjointSets sets(cells);
   std::vector<std::uint32_t> first_cell(w.nodes.count, UINT32_MAX);
@@ -35,23 +36,52 @@ std::int64_t count_pieces(const World& w) {
       if (first_cell[n] == UINT32_MAX) first_cell[n] = c;
       else sets.unite(c, first_cell[n]);
     }
-  std::int64_t pieces = 0;
-  for (std::uint32_t c = 0; c < cells; ++c) pieces += sets.find(c) == c;
-  return pieces;
+  std::vector<std::uint32_t> label(cells);
+  for (std::uint32_t c = 0; c < cells; ++c) label[c] = sets.find(c);
+  return label;
 }
 
-// Torn faces of the top layer: their total length and the path's roughness.
-void measure_top_edges(const World& w, Metrics& m) {
+// The two largest pieces that hold at least a tenth of the cells each (ties: lower label
+// first); UINT32_MAX where there is none. Smaller pieces are fragments, not halves of a tear.
+std::array<std::uint32_t, 2> two_largest(const std::vector<std::uint32_t>& label, std::int64_t& pieces) {
+  std::vector<std::uint32_t> size(label.size(), 0);
+  for (std::uint32_t l : label) ++size[l];
+  std::array<std::uint32_t, 2> best{UINT32_MAX, UINT32_MAX};
+  pieces = 0;
+  for (std::uint32_t l = 0; l < size.size(); ++l) {
+    if (size[l] == 0) continue;
+    ++pieces;
+    if (best[0] == UINT32_MAX || size[l] > size[best[0]]) best = {l, best[0]};
+    else if (best[1] == UINT32_MAX || size[l] > size[best[1]]) best[1] = l;
+  }
+  for (std::uint32_t& b : best)
+    if (b != UINT32_MAX && size[b] * 10 < label.size()) b = UINT32_MAX;
+  return best;
+}
+
+// Torn faces of the top layer: their total length and the path's roughness. Once the sheet
+// is in pieces, the tear is the boundary between the two largest pieces (fragments and
+// cracks that did not go through are left out); before that, every torn face counts.
+void measure_top_edges(const World& w, const std::vector<std::uint32_t>& label,
+                       const std::array<std::uint32_t, 2>& main, Metrics& m) {
   const LatticeDims& d = w.topo.dims;
   const int k = d.nl - 1;
+  const bool separated = main[1] != UINT32_MAX;
   double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
-  double length = 0.0;
+  double length = 0.0, path = 0.0;
   for (int j = 0; j < d.ny; ++j)
     for (int i = 0; i < d.nx; ++i)
       for (int axis = 0; axis < 2; ++axis) {
         if ((axis == 0 ? i + 1 : j + 1) >= (axis == 0 ? d.nx : d.ny)) continue;
-        if (faces_connected(w, d.cell_index(i, j, k), 2 * axis + 1)) continue;
-        length += axis == 0 ? d.hy : d.hx;
+        const std::uint32_t c = d.cell_index(i, j, k);
+        if (faces_connected(w, c, 2 * axis + 1)) continue;
+        const double face = axis == 0 ? d.hy : d.hx;
+        length += face;
+        const std::uint32_t n = axis == 0 ? d.cell_index(i + 1, j, k) : d.cell_index(i, j + 1, k);
+        const bool on_tear = !separated || (label[c] != label[n] && (label[c] == main[0] || label[c] == main[1]) &&
+                                            (label[n] == main[0] || label[n] == main[1]));
+        if (!on_tear) continue;
+        path += face;
         const double centre[2] = {(i + (axis == 0 ? 1.0 : 0.5)) * d.hx, (j + (axis == 1 ? 1.0 : 0.5)) * d.hy};
         for (int a = 0; a < 2; ++a) {
           lo[a] = std::min(lo[a], centre[a]);
@@ -59,9 +89,9 @@ void measure_top_edges(const World& w, Metrics& m) {
         }
       }
   m.torn_edge_length = length;
-  if (length == 0.0) return;
+  if (path == 0.0) return;
   const double extent = std::max(hi[0] - lo[0] + d.hx, hi[1] - lo[1] + d.hy);
-  m.edge_roughness = length / extent;
+  m.edge_roughness = path / extent;
 }
 
 double peeled_area(const World& w) {
@@ -111,8 +141,8 @@ Metrics measure(const World& w) {
   m.step = w.step;
   m.time = w.time;
   for (const SplitEvent& e : w.events) (e.interlayer ? m.splits_interlayer : m.splits_inplane) += 1;
-  m.pieces = count_pieces(w);
-  measure_top_edges(w, m);
+  const std::vector<std::uint32_t> label = label_pieces(w);
+  measure_top_edges(w, label, two_largest(label, m.pieces), m);
   m.peeled_area = peeled_area(w);
   m.grip_force = grip_force(w);
   m.kinetic_energy = kinetic_energy(0, w.nodes.count, w.nodes);

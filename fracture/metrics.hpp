@@ -12,8 +12,9 @@ struct Metrics {
   std::int64_t splits_inplane = 0;     // splits that opened an in-plane bond (axis x or y)
   std::int64_t splits_interlayer = 0;  // splits that opened a bond between layers (axis z)
   std::int64_t pieces = 0;             // connected components of cells through shared nodes
-  double torn_edge_length = 0.0;       // total length of torn vertical (x/y) cell faces, top layer
-  double edge_roughness = 0.0;         // torn path length / its straight extent, top layer (0: no tear)
+  double torn_edge_length = 0.0;       // total length of torn in-plane cell faces, top layer
+  double edge_roughness = 0.0;         // tear path length / its straight extent, top layer (0: no
+                                       // tear); once in pieces, the path between the two largest
   double peeled_area = 0.0;            // area of separated faces between layers
   double grip_force = 0.0;             // spring force along the pull axis on the +axis grip
   double kinetic_energy = 0.0;
