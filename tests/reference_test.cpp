@@ -1,0 +1,313 @@
+// The SIMD/TBB solver against the plain double-precision reference model
+// (kernels/reference.hpp): whole runs, and the per-node forces of the cell kernel.
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <catch2/catch.hpp>
+
+#include "core/simulation.hpp"
+#include "kernels/cell_forces.hpp"
+#include "kernels/coarse_forces.hpp"
+#include "kernels/reference.hpp"
+
+namespace pt = papertear;
+
+namespace {
+
+constexpr double kEpsF = std::numeric_limits<float>::epsilon();  // 2^-23
+
+// A small sheet with every part of the elastic model switched on (fibre blocks with their
+// coarse springs, damping, a drag strong enough to matter), pulled along x. Bonds are made
+// strong enough that nothing breaks during the comparison: fracture is not part of the
+// reference model. The notch cut at the start (fracture/notch.hpp) gives the reference a
+// split topology to read, as it would after tearing.
+pt::Scene small_pull_scene() {
+  pt::Scene s;
+  s.sheet.cells = {6, 5, 3};
+  s.material.fiber_length = 3.0;
+  s.material.strain_intra = s.material.strain_inter = 5.0;
+  s.material.strain_layer = s.material.strain_surface = 5.0;
+  s.load.kind = "pull";
+  s.load.grip_cells = 1;
+  s.load.speed = 0.05;
+  s.load.ramp_time = 2.0;
+  s.world.drag = 0.05;
+  s.load.notch = 2;
+  return s;
+}
+
+struct Deviation {
+  double position = 0.0, velocity = 0.0;  // largest |Δ| over nodes and axes
+  double extent = 0.0, speed = 0.0;       // largest |p| and |v| of the reference
+};
+
+Deviation compare(const pt::Simulation& sim, const pt::ReferenceModel& ref) {
+  const pt::NodeView n = sim.nodes();
+  REQUIRE(n.count == ref.nodes().size());
+  Deviation d;
+  for (std::size_t i = 0; i < n.count; ++i) {
+    const auto& r = ref.nodes()[i];
+    const double p[3] = {n.px[i], n.py[i], n.pz[i]};
+    const double v[3] = {n.vx[i], n.vy[i], n.vz[i]};
+    for (std::size_t a = 0; a < 3; ++a) {
+      d.position = std::max(d.position, std::fabs(p[a] - r.p[a]));
+      d.velocity = std::max(d.velocity, std::fabs(v[a] - r.v[a]));
+      d.extent = std::max(d.extent, std::fabs(r.p[a]));
+      d.speed = std::max(d.speed, std::fabs(r.v[a]));
+    }
+  }
+  return d;
+}
+
+// Random displacements and velocities on every node, so that every spring is stretched or
+// compressed and has a relative velocity (a resting lattice has zero force everywhere).
+void perturb(pt::World& w, std::uint32_t seed, float dp, float dv) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
+  pt::NodeStore& n = w.nodes;
+  for (std::size_t i = 0; i < n.count; ++i) {
+    n.px[i] += dp * unit(rng); n.py[i] += dp * unit(rng); n.pz[i] += dp * unit(rng);
+    n.vx[i] = dv * unit(rng); n.vy[i] = dv * unit(rng); n.vz[i] = dv * unit(rng);
+  }
+}
+
+// The world a Simulation builds for the scene (fibre blocks included), perturbed, with
+// per-cell stiffness factors in [0.7, 1.3] so that the kernels' scaling is exercised too.
+// (The step stays stable: the scene's dt is half the limit at factor 1, and the limit only
+// shrinks by 1/sqrt(1.3).)
+pt::World perturbed_world(const pt::Scene& scene, std::uint32_t seed, float dp, float dv) {
+  pt::World w = pt::Simulation(scene, {.threads = 1}).world();
+  perturb(w, seed, dp, dv);
+  std::mt19937 rng(seed + 1);
+  std::uniform_real_distribution<float> factor(0.7f, 1.3f);
+  for (float& f : w.topo.cell_scale) f = factor(rng);
+  return w;
+}
+
+// max over nodes of Σ_s k_s L0_s / m: the scale of a node's acceleration per unit of relative
+// error in its spring forces.
+double force_scale(const pt::ReferenceModel& ref) {
+  std::vector<double> kl(ref.nodes().size(), 0.0);
+  for (const auto& s : ref.springs()) {
+    kl[s.a] += s.k * s.rest;
+    kl[s.b] += s.k * s.rest;
+  }
+  double worst = 0.0;
+  for (std::size_t i = 0; i < kl.size(); ++i) worst = std::max(worst, kl[i] / ref.nodes()[i].mass);
+  return worst;
+}
+
+// Runs the solver and the reference side by side and checks they agree.
+//
+// Tolerance: the reference is the same equations in double, so the difference is the
+// solver's float rounding.
+//  * positions: each step rounds the stored position by up to kEpsF/2 of the largest
+//    coordinate, a few times over the RK4 sums. These roundings can all have the same sign
+//    (a gripped node adds the same small increment every step and rounds the same way each
+//    time), so they are budgeted linearly: 4 n kEpsF |p|max. Velocity errors do not add up
+//    into a growing position error: the grips pin the sheet (their velocity is prescribed
+//    in both models) and the damping keeps the sheet's oscillations small.
+//  * velocities: each step rounds the stored velocity (kEpsF |v|max) and, through the force
+//    sums, the acceleration by a few kEpsF Σ k L0 / m (a spring's force k (L - L0) comes from
+//    L, which carries an error of ~kEpsF L), for dt. These change sign from step to step and
+//    node to node and grow like sqrt(n) (as measured); 16 sqrt(n) times the per-step amount
+//    (4 stages of a few roundings each) is ~7x above the largest measured deviation.
+// Against deliberately broken reference models — no drag, wrong RK4 weights or stage
+// inputs, undamped block springs, no cell factor on k or c, a grip ramp one step late, no
+// gravity — the runs below exceed these bounds by 5x to several hundred x.
+void run_side_by_side(pt::World world, int steps) {
+  pt::ReferenceModel ref(world);
+  const std::size_t events = world.events.size();
+  pt::Simulation sim(std::move(world), {.threads = 2});
+  const double accel_scale = sim.dt() * force_scale(ref);
+  // Compared after every step, so that a difference in the fast early transient is seen
+  // even after the damping has smoothed it out.
+  double extent = 0.0, speed = 0.0, worst = 0.0;
+  std::string report;
+  for (int step = 1; step <= steps; ++step) {
+    sim.step(1);
+    ref.step(1);
+    const Deviation d = compare(sim, ref);
+    extent = std::max(extent, d.extent);
+    speed = std::max(speed, d.speed);
+    const double pos_tol = 4.0 * step * kEpsF * extent;
+    const double vel_tol = 16.0 * std::sqrt(double(step)) * kEpsF * (speed + accel_scale);
+    const double ratio = std::max(d.position / pos_tol, d.velocity / vel_tol);
+    if (ratio > worst || step == 1) {
+      worst = ratio;
+      std::ostringstream msg;
+      msg << "step " << step << " of " << steps << " (dt " << sim.dt() << "): position deviation "
+          << d.position << " (tolerance " << pos_tol << "), velocity deviation " << d.velocity
+          << " (tolerance " << vel_tol << ")";
+      report = msg.str();
+    }
+  }
+  REQUIRE(sim.world().events.size() == events);  // nothing tore: the reference has no fracture
+  REQUIRE(ref.time() == Approx(sim.time()).epsilon(1e-6));
+  INFO("worst " << report);
+  CHECK(worst <= 1.0);
+  // The run did move the sheet, so the comparison is not between two resting lattices.
+  CHECK(speed > 1e-3);
+}
+
+struct Forces {
+  std::vector<float> x, y, z;
+  explicit Forces(std::size_t n) : x(n, 0.0f), y(n, 0.0f), z(n, 0.0f) {}
+  pt::ForceOutputs outputs() { return {x.data(), y.data(), z.data()}; }
+};
+
+pt::CellForceInputs cell_inputs(const pt::World& w) {
+  const pt::NodeStore& n = w.nodes;
+  return {n.px.data(), n.py.data(), n.pz.data(), n.vx.data(), n.vy.data(), n.vz.data(),
+          w.topo.cell_nodes.data(), w.topo.cell_scale.data(), &w.springs};
+}
+
+// The cell kernel over the 8 colour lists in colour order, as the solver runs it.
+template <class Kernel>
+Forces cell_forces(const pt::World& w, Kernel kernel) {
+  Forces f(w.nodes.count);
+  const pt::CellForceInputs in = cell_inputs(w);
+  for (const auto& list : w.topo.colour_cells) kernel(0, list.size(), list.data(), in, f.outputs());
+  return f;
+}
+
+void add_coarse_forces(const pt::World& w, Forces& f) {
+  const std::size_t n = w.coarse.size();
+  pt::CoarseForceScratch scratch{std::vector<float>(n), std::vector<float>(n), std::vector<float>(n)};
+  pt::coarse_spring_forces(0, n, w.coarse, w.topo, cell_inputs(w), scratch);
+  pt::scatter_coarse_forces(w.coarse, w.topo, scratch, f.outputs());
+}
+
+// Per-node bound on the float kernel's rounding error, from the springs at that node.
+// One spring in float: d = x_b - x_a is exact to kEpsF/2 |d|; L = sqrt(d·d) to ~2 kEpsF L;
+// so k (L - L0) is off by ~3 kEpsF k L, and c (Δv·d)/L by ~4 kEpsF c |Δv|; scaling by d/L
+// adds ~3 kEpsF |f|. Summing m terms into a node adds at most m kEpsF Σ|f|. Twice that,
+// for margin.
+std::vector<double> force_tolerance(const pt::ReferenceModel& ref) {
+  const auto& nodes = ref.nodes();
+  std::vector<double> spring_part(nodes.size(), 0.0), force_sum(nodes.size(), 0.0);
+  std::vector<int> terms(nodes.size(), 0);
+  for (const auto& s : ref.springs()) {
+    double d2 = 0.0, dv2 = 0.0;
+    for (std::size_t a = 0; a < 3; ++a) {
+      const double d = nodes[s.b].p[a] - nodes[s.a].p[a];
+      const double dv = nodes[s.b].v[a] - nodes[s.a].v[a];
+      d2 += d * d;
+      dv2 += dv * dv;
+    }
+    const double len = std::sqrt(d2);
+    const double f = std::fabs(s.k * (len - s.rest)) + s.c * std::sqrt(dv2);
+    const double part = 3.0 * s.k * len + 4.0 * s.c * std::sqrt(dv2) + 3.0 * f;
+    for (std::uint32_t node : {s.a, s.b}) {
+      spring_part[node] += part;
+      force_sum[node] += f;
+      terms[node] += 1;
+    }
+  }
+  std::vector<double> tol(nodes.size());
+  for (std::size_t i = 0; i < nodes.size(); ++i)
+    tol[i] = 2.0 * kEpsF * (spring_part[i] + terms[i] * force_sum[i]);
+  return tol;
+}
+
+bool same_bits(const std::vector<float>& a, const std::vector<float>& b) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t i = 0; i < a.size(); ++i)
+    if (std::bit_cast<std::uint32_t>(a[i]) != std::bit_cast<std::uint32_t>(b[i])) return false;
+  return true;
+}
+
+}  // namespace
+
+TEST_CASE("solver follows the reference model on a pulled sheet", "[reference]") {
+  // From rest: the grips and their ramp drive everything.
+  run_side_by_side(pt::Simulation(small_pull_scene(), {.threads = 1}).world(), 300);
+}
+
+TEST_CASE("solver follows the reference model from a vibrating state", "[reference]") {
+  // Large accelerations make the RK4 stages, damping and drag matter, not just the grips.
+  run_side_by_side(perturbed_world(small_pull_scene(), 17, 0.05f, 0.05f), 150);
+}
+
+TEST_CASE("solver follows the reference model with gravity", "[reference]") {
+  pt::Scene s = small_pull_scene();
+  s.world.gravity = {0.0, 0.0, -0.01};
+  s.load.speed = 0.01;
+  run_side_by_side(perturbed_world(s, 23, 0.02f, 0.02f), 300);
+}
+
+TEST_CASE("reference model starts from the world it is given", "[reference]") {
+  const pt::World w = perturbed_world(small_pull_scene(), 3, 0.1f, 0.05f);
+  const pt::ReferenceModel ref(w);
+  REQUIRE(ref.nodes().size() == w.nodes.count);
+  std::size_t live_coarse = 0;
+  for (std::size_t i = 0; i < w.coarse.size(); ++i)
+    live_coarse += (w.coarse.stiffness[i] != 0.0f || w.coarse.damping[i] != 0.0f) ? 1 : 0;
+  CHECK(live_coarse > 0);  // the scene has fibre blocks, so the coarse springs are exercised
+  CHECK(w.nodes.count > std::size_t(w.topo.dims.vertices()));  // and a notch: split nodes
+  CHECK(ref.springs().size() == std::size_t(w.topo.dims.cells()) * pt::kSpringsPerCell + live_coarse);
+  CHECK(ref.time() == w.time);
+  std::size_t mismatched = 0;
+  for (std::size_t i = 0; i < w.nodes.count; ++i) {
+    const auto& r = ref.nodes()[i];
+    const bool same = r.p == std::array<double, 3>{w.nodes.px[i], w.nodes.py[i], w.nodes.pz[i]} &&
+                      r.v == std::array<double, 3>{w.nodes.vx[i], w.nodes.vy[i], w.nodes.vz[i]} &&
+                      r.mass == double(w.nodes.mass[i]) && r.free == (w.nodes.grip[i] == 0) &&
+                      r.grip == w.nodes.grip[i];
+    mismatched += same ? 0 : 1;
+  }
+  CHECK(mismatched == 0);
+}
+
+TEST_CASE("cell and coarse kernels match the reference spring forces", "[reference]") {
+  const pt::World w = perturbed_world(small_pull_scene(), 11, 0.1f, 0.05f);
+  const pt::ReferenceModel ref(w);
+  Forces f = cell_forces(w, pt::add_cell_forces);
+  add_coarse_forces(w, f);
+
+  const auto expected = ref.spring_forces();
+  const std::vector<double> tol = force_tolerance(ref);
+  double worst_ratio = 0.0, largest_force = 0.0;
+  std::size_t worst = 0;
+  for (std::size_t i = 0; i < w.nodes.count; ++i) {
+    const double got[3] = {f.x[i], f.y[i], f.z[i]};
+    for (std::size_t a = 0; a < 3; ++a) {
+      const double ratio = std::fabs(got[a] - expected[i][a]) / tol[i];
+      largest_force = std::max(largest_force, std::fabs(expected[i][a]));
+      if (ratio > worst_ratio) { worst_ratio = ratio; worst = i; }
+    }
+  }
+  INFO("worst node " << worst << ": got (" << f.x[worst] << ", " << f.y[worst] << ", "
+                     << f.z[worst] << "), reference (" << expected[worst][0] << ", "
+                     << expected[worst][1] << ", " << expected[worst][2] << "), tolerance "
+                     << tol[worst]);
+  CHECK(worst_ratio <= 1.0);
+  CHECK(largest_force > 1e-2);  // the perturbation really loads the springs
+}
+
+TEST_CASE("vector and scalar cell kernels give the same bits", "[reference]") {
+  const pt::World w = perturbed_world(small_pull_scene(), 29, 0.1f, 0.05f);
+  const Forces wide = cell_forces(w, pt::add_cell_forces);
+  const Forces scalar = cell_forces(w, pt::add_cell_forces_scalar);
+  CHECK(same_bits(wide.x, scalar.x));
+  CHECK(same_bits(wide.y, scalar.y));
+  CHECK(same_bits(wide.z, scalar.z));
+
+  // A range that starts and ends off the vector width exercises the scalar tail too.
+  const auto& list = w.topo.colour_cells[0];
+  REQUIRE(list.size() >= 3);
+  Forces a(w.nodes.count), b(w.nodes.count);
+  pt::add_cell_forces(1, list.size(), list.data(), cell_inputs(w), a.outputs());
+  pt::add_cell_forces_scalar(1, list.size(), list.data(), cell_inputs(w), b.outputs());
+  CHECK(same_bits(a.x, b.x));
+  CHECK(same_bits(a.y, b.y));
+  CHECK(same_bits(a.z, b.z));
+}
