@@ -9,6 +9,14 @@
 #include <cstddef>
 
 #ifndef PAPERTEAR_NO_SIMD
+// GCC 12 reports "'__Y' is used uninitialized" inside its own avx512fintrin.h wherever an
+// _mm512_undefined_* intrinsic is inlined (those are uninitialised by design); the warning
+// cannot be silenced at the include, only in the translation units that inline them. Only
+// the kernel sources include this header.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wuninitialized"
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
 #include <xsimd/xsimd.hpp>
 #endif
 
