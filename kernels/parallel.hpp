@@ -12,6 +12,14 @@
 #include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/partitioner.h>
 
+#ifdef PAPERTEAR_STD_THREAD_BACKEND
+#include <algorithm>
+#include <atomic>
+#include <thread>
+
+#include <oneapi/tbb/task_arena.h>
+#endif
+
 namespace papertear {
 
 inline std::size_t chunk_count(std::size_t n, std::size_t chunk) { return (n + chunk - 1) / chunk; }
@@ -25,6 +33,25 @@ void parallel_chunks(std::size_t n, std::size_t chunk, const Body& body) {
     body(std::size_t(0), n, std::size_t(0));
     return;
   }
+#ifdef PAPERTEAR_STD_THREAD_BACKEND
+  // ThreadSanitizer builds only (CMakePresets.json, preset tsan): Debian's libtbb is not
+  // instrumented, so TSan cannot see the hand-offs inside its scheduler and reports races on
+  // every parallel_for. Here plain std::threads, as many as the current arena allows, take
+  // the same chunks from an atomic counter; TSan sees their start and join.
+  const std::size_t workers =
+      std::min<std::size_t>(chunks, std::size_t(tbb::this_task_arena::max_concurrency()));
+  std::atomic<std::size_t> next{0};
+  auto drain = [&] {
+    for (std::size_t c = next.fetch_add(1); c < chunks; c = next.fetch_add(1)) {
+      const std::size_t b = c * chunk;
+      body(b, b + chunk < n ? b + chunk : n, c);
+    }
+  };
+  std::vector<std::thread> helpers;
+  for (std::size_t t = 1; t < workers; ++t) helpers.emplace_back(drain);
+  drain();
+  for (std::thread& t : helpers) t.join();
+#else
   tbb::parallel_for(
       tbb::blocked_range<std::size_t>(0, chunks, 1),
       [&](const tbb::blocked_range<std::size_t>& r) {
@@ -35,6 +62,7 @@ void parallel_chunks(std::size_t n, std::size_t chunk, const Body& body) {
         }
       },
       tbb::simple_partitioner());
+#endif
 }
 
 // A sum whose bits do not depend on the thread count: partial sums per fixed chunk, then a

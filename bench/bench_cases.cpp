@@ -1,0 +1,35 @@
+#include "bench_cases.hpp"
+
+namespace papertear::bench {
+
+std::vector<Case> papertear_cases() {
+  std::vector<Case> cases;
+  for (Size size : {Size{90, 90, 5}, Size{30, 30, 5}})
+    for (int threads : {1, 2}) cases.push_back({size, threads});
+  return cases;
+}
+
+std::string case_name(const char* family, const char* impl, const Case& c) {
+  return std::string(family) + "/" + impl + "/" + std::to_string(c.size.nx) + "x" +
+         std::to_string(c.size.ny) + "x" + std::to_string(c.size.nl) + "/threads:" +
+         std::to_string(c.threads);
+}
+
+Scene quiet_pull_scene(const Size& size) {
+  Scene scene;
+  scene.sheet.cells = {size.nx, size.ny, size.nl};
+  scene.load.kind = "pull";
+  // Far below the strain at which the weakest bond opens over any benchmark's duration.
+  scene.load.speed = 1e-4;
+  return scene;
+}
+
+void set_throughput_counters(benchmark::State& state, const Size& size, double springs_per_iteration,
+                             double total_seconds, const char* per_cell_counter) {
+  using benchmark::Counter;
+  state.counters["springs_per_s"] = Counter(springs_per_iteration, Counter::kIsIterationInvariantRate);
+  const double cell_iterations = double(size.cells()) * double(state.iterations());
+  state.counters[per_cell_counter] = cell_iterations > 0 ? total_seconds * 1e9 / cell_iterations : 0.0;
+}
+
+}  // namespace papertear::bench
