@@ -1,0 +1,99 @@
+// The `papertear` program: command-line parsing (CLI11) and dispatch to the subcommands.
+#include <CLI/CLI.hpp>
+
+#include "tools/commands.hpp"
+
+#ifndef PAPERTEAR_VERSION
+#define PAPERTEAR_VERSION "unknown"
+#endif
+
+namespace papertear::cli {
+
+namespace {
+
+constexpr const char* kSetHelp =
+    "Override a scene key by its dotted name, e.g. --set sheet.cells=[30,30,5] "
+    "--set material.grain=y (a TOML value; a bare word is a string). Repeatable.";
+
+void add_scene_options(CLI::App& cmd, SceneOptions& o) {
+  cmd.add_option("scene", o.scene_path,
+                 "Scene file (TOML). Without one: the built-in default, the paper's experiment");
+  cmd.add_option("--set", o.sets, kSetHelp)->type_name("KEY=VALUE")->allow_extra_args(false);
+  cmd.add_option("--threads", o.threads, "Worker threads (0: all hardware threads)")
+      ->check(CLI::Range(0, 4096))
+      ->default_val(0);
+}
+
+void add_checkpoint_options(CLI::App& cmd, CheckpointOptions& o) {
+  cmd.add_option("--checkpoint-every", o.every,
+                 "Write DIR/checkpoints/step_N.ptck every N steps (needs --out; 0: none). "
+                 "Ctrl-C always leaves one when there is an output directory")
+      ->type_name("N")
+      ->check(CLI::NonNegativeNumber)
+      ->default_val(0);
+  cmd.add_option("--keep-checkpoints", o.keep,
+                 "Keep only the newest K checkpoints this run wrote (0: keep all)")
+      ->type_name("K")
+      ->check(CLI::NonNegativeNumber)
+      ->default_val(3);
+}
+
+}  // namespace
+
+}  // namespace papertear::cli
+
+int main(int argc, char** argv) {
+  using namespace papertear::cli;
+  CLI::App app("papertear: paper tearing for computer graphics (multi-layer mass-spring lattice)",
+               "papertear");
+  app.set_version_flag("--version", PAPERTEAR_VERSION);
+  app.require_subcommand(1);
+  app.footer(
+      "Exit codes: 0 done, 1 bad input (nothing written), 2 the simulation blew up "
+      "(summary.json still written), 3 an output file could not be written, 130 (143) stopped by "
+      "Ctrl-C (SIGTERM) after a whole step (a checkpoint and summary.json written with --out).");
+
+  RunOptions run;
+  CLI::App* run_cmd = app.add_subcommand("run", "Run a scene; print the state digest last");
+  add_scene_options(*run_cmd, run.scene);
+  run_cmd->add_option("--out", run.out_dir, "Output directory for summary.json (and frames)")
+      ->type_name("DIR");
+  run_cmd->add_option("--steps", run.steps, "Number of steps (overrides run.steps)");
+  run_cmd->add_option("--frames", run.frames, "Number of frames (overrides run.frames)");
+  run_cmd->add_flag("--quiet,-q", run.quiet, "Print only errors and the final digest line");
+  add_checkpoint_options(*run_cmd, run.checkpoints);
+
+  ResumeOptions resume;
+  CLI::App* resume_cmd = app.add_subcommand(
+      "resume", "Continue a run from a checkpoint to its planned end (or --steps N more); print the "
+                "digest last");
+  resume_cmd->add_option("checkpoint", resume.checkpoint, "Checkpoint file (DIR/checkpoints/step_N.ptck)")
+      ->required();
+  resume_cmd->add_option("--steps", resume.steps, "Run N more steps instead of finishing the planned run")
+      ->type_name("N")
+      ->check(CLI::NonNegativeNumber);
+  resume_cmd->add_option("--out", resume.out_dir,
+                         "Output directory (default: DIR of DIR/checkpoints/step_N.ptck, the run's own)")
+      ->type_name("DIR");
+  resume_cmd->add_option("--threads", resume.threads, "Worker threads (0: all hardware threads)")
+      ->check(CLI::Range(0, 4096))
+      ->default_val(0);
+  resume_cmd->add_flag("--quiet,-q", resume.quiet, "Print only errors and the final digest line");
+  add_checkpoint_options(*resume_cmd, resume.checkpoints);
+
+  SceneOptions info;
+  CLI::App* info_cmd = app.add_subcommand(
+      "info", "Sizes, memory, time step and estimated run time of a scene, from a few timed steps");
+  add_scene_options(*info_cmd, info);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
+    print_error(std::string(e.what()) + " (see papertear --help)");
+    return kExitBadInput;
+  }
+  if (run_cmd->parsed()) return run_command(run);
+  if (resume_cmd->parsed()) return resume_command(resume);
+  return info_command(info);
+}

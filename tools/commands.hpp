@@ -1,0 +1,93 @@
+// The `papertear` program's subcommands. cli_main.cpp parses the command line into these
+// options; each command returns the process exit code.
+#pragma once
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/simulation.hpp"
+#include "tools/frame_sink.hpp"
+#include "tools/run_frames.hpp"
+#include "tools/scene_file.hpp"
+
+namespace papertear::cli {
+
+enum ExitCode : int {
+  kExitOk = 0,
+  kExitBadInput = 1,  // bad command line, scene, parameter or output path: nothing written
+  kExitBlowUp = 2,    // the simulation became non-finite: summary.json says where
+  kExitOutput = 3,    // an output file could not be written during the run
+  kExitInterrupted = 128,  // + the signal: 130 for Ctrl-C (SIGINT), 143 for SIGTERM; the run
+                           // stopped after a whole step and left a checkpoint and summary.json
+};
+
+struct SceneOptions {
+  std::string scene_path;         // empty: the built-in default scene
+  std::vector<std::string> sets;  // --set key=value, applied in order
+  int threads = 0;                // 0: all hardware threads
+};
+
+struct CheckpointOptions {
+  int every = 0;  // --checkpoint-every: steps between checkpoints (0: none); needs an output dir
+  int keep = 3;   // --keep-checkpoints: how many of the newest to keep (0: all)
+};
+
+struct RunOptions {
+  SceneOptions scene;
+  std::string out_dir;  // empty: write no files
+  std::optional<int> steps, frames;
+  bool quiet = false;
+  CheckpointOptions checkpoints;
+};
+
+struct ResumeOptions {
+  std::string checkpoint;    // the .ptck file
+  std::optional<int> steps;  // run this many more steps instead of finishing the scene's run
+  std::string out_dir;       // empty: the run directory the checkpoint is in (DIR of
+                             // DIR/checkpoints/step_N.ptck), otherwise write no files
+  int threads = 0;
+  bool quiet = false;
+  CheckpointOptions checkpoints;
+};
+
+int run_command(const RunOptions& options);
+int resume_command(const ResumeOptions& options);
+int info_command(const SceneOptions& options);
+
+// A run ready to step, checked and with its output directory created: `run` and `resume`
+// both end in execute_run, which steps it through its plan (writing checkpoints and
+// stopping cleanly on Ctrl-C), writes summary.json and prints the digest line last.
+struct RunSession {
+  io::SceneFile file;
+  Simulation sim;
+  std::vector<std::unique_ptr<io::FrameSink>> sinks;
+  int threads = 0;
+  std::optional<std::filesystem::path> out_dir;
+  io::FramePlan plan;
+  io::RunRecord so_far;  // what a resumed run measured before its checkpoint
+  CheckpointOptions checkpoints;
+  bool quiet = false;
+};
+int execute_run(RunSession& session);
+
+// Loads the scene (or the default) with the --set overrides and then `extra` ones.
+// Throws papertear::SceneError.
+io::SceneFile resolve_scene(const SceneOptions& options,
+                            const std::vector<io::SetOverride>& extra = {});
+// The worker count a Simulation given `requested` threads will use.
+int resolved_threads(int requested);
+// io::check_output_dir with the error naming the --out option. Throws io::OutputError.
+void check_output_dir_option(const std::filesystem::path& dir);
+// Prints "papertear: error: <message>" on stderr.
+void print_error(const std::string& message);
+
+// The frame sinks of a run (tools/cli_frame_sinks.cpp): the renderer's PNG frames and meshes.
+// Called after the scene is resolved and before the output directory is created; `out_dir`
+// is null without --out (then no sinks, but the render sections are still checked).
+// Throws papertear::SceneError for a bad [render]/[output] section.
+std::vector<std::unique_ptr<io::FrameSink>> make_frame_sinks(const io::SceneFile& scene,
+                                                             const std::filesystem::path* out_dir);
+
+}  // namespace papertear::cli

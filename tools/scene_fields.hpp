@@ -1,0 +1,65 @@
+// The one list of every papertear::Scene field and its dotted key in a scene file. Reading
+// TOML, writing TOML and writing JSON all walk this list, so a field added to core/scene.hpp
+// needs one line here and nothing else in tools/.
+#pragma once
+#include <type_traits>
+
+#include "core/scene.hpp"
+
+namespace papertear::io {
+
+// run.dt is a number or "auto" (stored as 0): readers and writers treat it apart.
+template <class D>
+struct AutoOrNumber {
+  D& value;
+};
+template <class D>
+AutoOrNumber<D> auto_or_number(D& value) { return {value}; }
+
+// Calls visit(key, field) for every field, in file order. SceneT is Scene or const Scene.
+template <class SceneT, class Visitor>
+  requires std::is_same_v<std::remove_const_t<SceneT>, Scene>
+void visit_scene_fields(SceneT& s, Visitor&& visit) {
+  visit("sheet.cells", s.sheet.cells);
+  visit("sheet.cell_size", s.sheet.cell_size);
+  visit("sheet.density", s.sheet.density);
+
+  visit("material.preset", s.material.preset);
+  visit("material.grain", s.material.grain);
+  visit("material.k_edge", s.material.k_edge);
+  visit("material.k_face", s.material.k_face);
+  visit("material.k_body", s.material.k_body);
+  visit("material.damping", s.material.damping);
+  visit("material.grain_stiffness", s.material.grain_stiffness);
+  visit("material.fiber_length", s.material.fiber_length);
+  visit("material.fiber_length_sigma", s.material.fiber_length_sigma);
+  visit("material.block_width", s.material.block_width);
+  visit("material.block_depth", s.material.block_depth);
+  visit("material.block_stiffness", s.material.block_stiffness);
+  visit("material.strain_intra", s.material.strain_intra);
+  visit("material.strain_inter", s.material.strain_inter);
+  visit("material.strain_layer", s.material.strain_layer);
+  visit("material.strain_surface", s.material.strain_surface);
+  visit("material.grain_strength", s.material.grain_strength);
+  visit("material.strength_jitter", s.material.strength_jitter);
+
+  visit("load.kind", s.load.kind);
+  visit("load.axis", s.load.axis);
+  visit("load.grip_cells", s.load.grip_cells);
+  visit("load.speed", s.load.speed);
+  visit("load.ramp_time", s.load.ramp_time);
+  visit("load.grip_margin", s.load.grip_margin);
+  visit("load.notch", s.load.notch);
+
+  visit("world.gravity", s.world.gravity);
+  visit("world.drag", s.world.drag);
+
+  visit("run.steps", s.run.steps);
+  visit("run.dt", auto_or_number(s.run.dt));
+  visit("run.dt_safety", s.run.dt_safety);
+  visit("run.frames", s.run.frames);
+  visit("run.seed", s.run.seed);
+  visit("run.max_splits_per_step", s.run.max_splits_per_step);
+}
+
+}  // namespace papertear::io
