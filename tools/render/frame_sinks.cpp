@@ -1,0 +1,125 @@
+#include "tools/render/frame_sinks.hpp"
+
+#include <cstdio>
+#include <cstdlib>
+#include <iostream>
+#include <optional>
+
+#include "core/scene.hpp"
+#include "tools/render/mesh_export.hpp"
+#include "tools/render/raytracer.hpp"
+#include "tools/render/surface.hpp"
+#include "tools/render/video.hpp"
+#include "tools/toml_keys.hpp"
+
+namespace papertear::render {
+
+namespace {
+
+const std::vector<std::string>& output_keys() {
+  static const std::vector<std::string> keys = {"output.png", "output.prefix", "output.mesh", "output.mesh_frames",
+                                                "output.video", "output.video_fps"};
+  return keys;
+}
+
+std::string numbered(const std::string& prefix, int frame, const char* extension) {
+  char digits[16];
+  std::snprintf(digits, sizeof digits, "_%04d", frame);
+  return prefix + digits + extension;
+}
+
+class RenderSink final : public io::FrameSink {
+ public:
+  RenderSink(const RenderSettings& render, const OutputSettings& output, std::filesystem::path out_dir)
+      : renderer_(render), output_(output), out_dir_(std::move(out_dir)) {}
+
+  // Frames go to DIR/frames/, meshes (and the print texture they reference) to DIR/mesh/.
+  void on_start(const Simulation& sim) override {
+    camera_ = renderer_.camera_for(sim.world());
+    if (output_.png) std::filesystem::create_directories(frames_dir());
+    if (output_.glb || output_.obj) std::filesystem::create_directories(mesh_dir());
+    if (output_.obj && renderer_.settings().print.enabled)
+      write_png(mesh_dir() / (output_.prefix + "_print.png"), renderer_.print());
+  }
+
+  void on_frame(const Simulation& sim, int frame, const Metrics&) override {
+    const bool last = frame + 1 == sim.scene().run.frames;
+    const bool mesh_due = (output_.glb || output_.obj) && (output_.mesh_every_frame || last);
+    if (!output_.png && !mesh_due) return;
+    const SurfaceMesh mesh = build_surface_mesh(sim.world(), renderer_.mesh_options());
+    if (output_.png) write_png(frames_dir() / numbered(output_.prefix, frame, ".png"), renderer_.draw(mesh, *camera_));
+    if (!mesh_due) return;
+    ExportOptions options;
+    const bool printed = renderer_.settings().print.enabled;
+    options.print = printed ? &renderer_.print() : nullptr;
+    options.print_file = printed ? output_.prefix + "_print.png" : "";
+    options.paper_color = renderer_.settings().paper_color;
+    if (output_.glb) export_glb(mesh, mesh_dir() / numbered(output_.prefix, frame, ".glb"), options);
+    if (output_.obj) export_obj(mesh, mesh_dir() / numbered(output_.prefix, frame, ".obj"), options);
+  }
+
+ private:
+  std::filesystem::path frames_dir() const { return out_dir_ / "frames"; }
+  std::filesystem::path mesh_dir() const { return out_dir_ / "mesh"; }
+
+  Renderer renderer_;
+  OutputSettings output_;
+  std::filesystem::path out_dir_;
+  std::optional<Camera> camera_;
+};
+
+}  // namespace
+
+OutputSettings parse_output_settings(const toml::table& root) {
+  OutputSettings o;
+  const toml::table* t = io::find_table(root, "output", "output");
+  if (!t) return o;
+  io::check_known_keys(*t, "output", output_keys());
+  if (const toml::node* n = t->get("png")) o.png = io::read_bool(*n, "output.png");
+  if (const toml::node* n = t->get("prefix")) {
+    o.prefix = io::read_string(*n, "output.prefix");
+    if (o.prefix.empty() || o.prefix.find('/') != std::string::npos)
+      io::fail_at(*n, "output.prefix", "must be a non-empty file name without '/'");
+  }
+  if (const toml::node* n = t->get("mesh")) {
+    const std::string mesh = io::read_string(*n, "output.mesh");
+    if (mesh != "none" && mesh != "glb" && mesh != "obj" && mesh != "both")
+      io::fail_at(*n, "output.mesh", "expected \"none\", \"glb\", \"obj\" or \"both\", got \"" + mesh + "\"");
+    o.glb = mesh == "glb" || mesh == "both";
+    o.obj = mesh == "obj" || mesh == "both";
+  }
+  if (const toml::node* n = t->get("mesh_frames")) {
+    const std::string which = io::read_string(*n, "output.mesh_frames");
+    if (which != "last" && which != "all")
+      io::fail_at(*n, "output.mesh_frames", "expected \"last\" or \"all\", got \"" + which + "\"");
+    o.mesh_every_frame = which == "all";
+  }
+  if (const toml::node* n = t->get("video")) o.video = io::read_bool(*n, "output.video");
+  if (const toml::node* n = t->get("video_fps")) {
+    o.video_fps = io::read_int(*n, "output.video_fps");
+    if (o.video_fps < 1 || o.video_fps > 240) io::fail_at(*n, "output.video_fps", "must be between 1 and 240");
+  }
+  return o;
+}
+
+std::vector<std::unique_ptr<io::FrameSink>> make_render_sinks(const toml::table& render_config,
+                                                              const std::filesystem::path& scene_dir,
+                                                              const std::filesystem::path& out_dir) {
+  const RenderSettings render = parse_render_settings(render_config, scene_dir);
+  const OutputSettings output = parse_output_settings(render_config);
+  std::vector<std::unique_ptr<io::FrameSink>> sinks;
+  if (!output.png && !output.glb && !output.obj) return sinks;
+  try {
+    sinks.push_back(std::make_unique<RenderSink>(render, output, out_dir));
+    if (output.png && output.video) {
+      const char* path = std::getenv("PATH");
+      sinks.push_back(std::make_unique<VideoSink>(out_dir / "frames", output.prefix, out_dir, output.video_fps,
+                                                  path ? path : "", std::cerr));
+    }
+  } catch (const RenderError& e) {  // the print image: bad input, reported like the scene's
+    throw SceneError(e.what());
+  }
+  return sinks;
+}
+
+}  // namespace papertear::render

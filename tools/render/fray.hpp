@@ -1,0 +1,22 @@
+// Frayed fibres on torn faces (paper §4, figure 6; MODEL.md §6). The lattice cell is the
+// smallest unit of a tear, so a torn face alone looks like a staircase. Each torn face
+// therefore grows a row of "teeth": thin pyramids standing on the face and leaning out of
+// it, some broad (clumps of fibres), some needle-like (single loose fibres). Their number,
+// widths, lengths and tips are a pure function of (cell, face), so a tear keeps the same
+// fringe from frame to frame, and the physics never sees them. They grow with the opening
+// of the tear (at most half way across the gap from each side) and never rise above the
+// face, so a fresh crack does not sprout fibres through the print.
+#pragma once
+#include <cstdint>
+
+#include "core/world.hpp"
+#include "tools/render/surface.hpp"
+
+namespace papertear::render {
+
+// Appends the fibres of torn face `face` of `cell` to `mesh`. `length` is the longest
+// fibre, in cell sizes; `opacity` is the cell's (peel.hpp).
+void append_frayed_face(const World& world, std::uint32_t cell, int face, float length, float opacity,
+                        SurfaceMesh& mesh);
+
+}  // namespace papertear::render

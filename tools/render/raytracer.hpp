@@ -1,0 +1,50 @@
+// Ray-traced frames of the display mesh (Embree 3).
+//
+// One frame: the world's surface mesh (surface.hpp: print, paper, fibres, peeled skins) goes
+// into a fresh Embree scene; the image is cut into 32 x 32 pixel tiles that are traced in
+// parallel (kernels/parallel.hpp: TBB, fixed chunks). Each pixel is independent of every
+// other, and every "random" number (sub-pixel position, point on the light) is hashed from
+// (pixel, sample), so a frame has the same bytes on any number of threads.
+//
+// Shading: a directional key light with soft shadows (shadow rays towards a jittered point
+// of the light's disc), a sky term brighter from above, Lambert surfaces in linear light,
+// output in sRGB. A peeled skin of opacity a adds a times its own colour and passes 1 - a
+// of what lies behind it; light shining through a thin skin lights its far side too.
+#pragma once
+#include <memory>
+
+#include "core/world.hpp"
+#include "tools/render/camera.hpp"
+#include "tools/render/image.hpp"
+#include "tools/render/settings.hpp"
+#include "tools/render/surface.hpp"
+
+namespace papertear::render {
+
+class Renderer {
+ public:
+  // Loads the print (RenderError when its PNG cannot be read) and opens an Embree device.
+  explicit Renderer(const RenderSettings& settings);
+  ~Renderer();
+  Renderer(Renderer&&) noexcept;
+  Renderer& operator=(Renderer&&) noexcept;
+  Renderer(const Renderer&) = delete;
+  Renderer& operator=(const Renderer&) = delete;
+
+  const RenderSettings& settings() const;
+  const Image& print() const;  // the image on the top face (sRGB)
+  MeshOptions mesh_options() const;
+
+  // The settings' camera, or the default view fitted to this world's sheet. For an
+  // animation, take it once from the first frame and pass it to every draw().
+  Camera camera_for(const World& world) const;
+
+  Image draw(const World& world, const Camera& camera) const;
+  Image draw(const SurfaceMesh& mesh, const Camera& camera) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace papertear::render

@@ -1,0 +1,74 @@
+// The sheet's visible surface, extracted from the topology (MODEL.md §6, paper §4).
+//
+// A cell face is part of the surface when no lattice neighbour is joined to the cell across
+// it (fracture/connectivity.hpp: joined = all four face nodes shared). Such faces are:
+//   Print      the top face of the top layer (carries the printed image),
+//   Outer      any other face on the outside of the lattice (edges, underside),
+//   Torn       an in-plane face whose neighbour exists but has been split off,
+//   Separated  a face between two layers that have come apart (peeling).
+// Geometry is taken at the nodes' current positions; texture coordinates come from the
+// nodes' rest positions, so the print tears and stretches with the paper.
+//
+// Vertices are shared between faces of the same orientation that meet at one node, which
+// makes a bent sheet shade smoothly while the cell edges stay crisp. Every vertex records
+// its node (ids are stable from frame to frame) and that node's original id, i.e. the node
+// at the same lattice vertex in the intact sheet, so points can be followed across frames
+// and across tears.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "core/world.hpp"
+
+namespace papertear::render {
+
+enum class FaceKind : std::uint8_t { Print, Outer, Torn, Separated };
+enum class Material : std::uint8_t { Print, Paper, Fibre };
+
+struct OpenFace {
+  std::uint32_t cell;
+  std::uint8_t face;  // 2 * axis + side (core/lattice.hpp)
+  FaceKind kind;
+};
+
+// Every surface face, in ascending (cell, face) order.
+std::vector<OpenFace> open_faces(const World& world);
+
+struct SurfaceMesh {
+  // Per vertex.
+  std::vector<std::array<float, 3>> position;
+  std::vector<std::array<float, 3>> normal;
+  std::vector<std::array<float, 2>> uv;         // print coordinates, (0, 0) = the image's top left
+  std::vector<std::uint32_t> node;              // node id in this frame
+  std::vector<std::uint32_t> original_node;     // node id in the intact sheet (= lattice vertex)
+  // Per triangle (counter-clockwise seen from outside).
+  std::vector<std::array<std::uint32_t, 3>> triangles;
+  std::vector<Material> material;
+  std::vector<FaceKind> kind;
+  std::vector<std::uint32_t> cell;
+  std::vector<float> opacity;  // 1, or less for a peeled skin (peel.hpp)
+  std::vector<float> shade;    // albedo factor: fibres vary a little in brightness
+
+  std::size_t vertex_count() const { return position.size(); }
+  std::size_t triangle_count() const { return triangles.size(); }
+  std::uint32_t add_vertex(const std::array<float, 3>& p, const std::array<float, 3>& n,
+                           const std::array<float, 2>& t, std::uint32_t node_id, std::uint32_t original);
+  void add_triangle(std::array<std::uint32_t, 3> v, Material m, FaceKind k, std::uint32_t cell_id,
+                    float alpha, float brightness);
+};
+
+struct MeshOptions {
+  bool fray = true;            // torn faces grow jagged fibres (fray.hpp)
+  float fray_length = 0.45f;   // how far fibres stick out, in cell sizes
+  float layer_opacity = 0.7f;  // opacity of a peeled skin one layer thick (peel.hpp)
+};
+
+// The display mesh of a world: its surface faces as triangles, plus frayed fibres on torn
+// faces. Reads the world only.
+SurfaceMesh build_surface_mesh(const World& world, const MeshOptions& options = {});
+
+// The corners of face f in counter-clockwise order seen from outside the cell.
+std::array<int, 4> face_loop(int face);
+
+}  // namespace papertear::render
