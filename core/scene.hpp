@@ -67,7 +67,7 @@ struct WorldParams {
 };
 
 struct RunParams {
-  int steps = 3000;             // run.steps
+  int steps = 1200;             // run.steps
   double dt = 0.0;              // run.dt: 0 means "auto" (stable limit × dt_safety)
   double dt_safety = 0.5;       // run.dt_safety
   int frames = 30;              // run.frames: how many frames the CLI writes

@@ -1,0 +1,36 @@
+// Short standard scenes shared by the golden-digest test and the cross-instruction-set check
+// (tests/simd/): an intact sheet (pure elasticity, with gravity), a tearing one and a peeling
+// one. Small enough to run in a second each.
+#pragma once
+#include <array>
+
+#include "core/scene.hpp"
+
+namespace papertear::standard {
+
+inline Scene small(const char* preset) {
+  Scene s;
+  apply_material_preset(s.material, preset);
+  s.sheet.cells = {24, 16, 3};
+  s.load.grip_cells = 2;
+  s.load.grip_margin = 2;
+  s.load.notch = 3;
+  s.load.speed = 0.15;
+  s.load.ramp_time = 5.0;
+  return s;
+}
+
+struct StandardScene {
+  const char* name;
+  Scene scene;
+  int steps;
+};
+
+inline std::array<StandardScene, 3> scenes() {
+  Scene intact = small("copy");
+  intact.load.speed = 0.01;  // stays intact
+  intact.world.gravity = {0.0, 0.0, -0.001};
+  return {{{"intact", intact, 300}, {"tearing", small("washi"), 400}, {"peeling", small("coated"), 400}}};
+}
+
+}  // namespace papertear::standard
