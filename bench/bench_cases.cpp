@@ -1,10 +1,12 @@
 #include "bench_cases.hpp"
 
+#include "core/world.hpp"
+
 namespace papertear::bench {
 
 std::vector<Case> papertear_cases() {
   std::vector<Case> cases;
-  for (Size size : {Size{90, 90, 5}, Size{30, 30, 5}})
+  for (Size size : {Size{30, 30, 5}, Size{90, 90, 5}, Size{300, 300, 5}, Size{1000, 1000, 5}})
     for (int threads : {1, 2}) cases.push_back({size, threads});
   return cases;
 }
@@ -22,6 +24,16 @@ Scene quiet_pull_scene(const Size& size) {
   // Far below the strain at which the weakest bond opens over any benchmark's duration.
   scene.load.speed = 1e-4;
   return scene;
+}
+
+double bytes_per_cell(const World& w) {
+  const double nodes = double(w.nodes.count);
+  const double node_bytes = nodes * (9 * 4 + 4 + 1) + nodes * 15 * 4;  // NodeStore + IntegratorScratch
+  const double cell_bytes = double(w.topo.cell_nodes.size()) * 4 + double(w.topo.cell_scale.size()) * 4 +
+                            double(w.topo.cell_block.size()) * 4 + double(w.topo.face_strain.size()) * 4;
+  const double coarse_bytes = double(w.coarse.size()) * (4 * 2 + 1 * 2 + 4 * 3 + 4);
+  const double cells = double(w.topo.dims.cells());
+  return cells > 0 ? (node_bytes + cell_bytes + coarse_bytes) / cells : 0.0;
 }
 
 void set_throughput_counters(benchmark::State& state, const Size& size, double springs_per_iteration,

@@ -11,6 +11,7 @@
 #include <benchmark/benchmark.h>
 
 #include "core/scene.hpp"
+#include "core/world.hpp"
 
 namespace papertear::bench {
 
@@ -24,7 +25,9 @@ struct Case {
   int threads;
 };
 
-// The paper's experiment (90 × 90 × 5) and a small sheet, each on 1 and 2 threads.
+// 30 × 30 × 5, the paper's experiment (90 × 90 × 5), 300 × 300 × 5 and 1000 × 1000 × 5, each
+// on 1 and 2 threads. bench/run.sh leaves the 1000 × 1000 × 5 cases out unless asked: their
+// setup alone takes minutes and about 1.3 GB.
 std::vector<Case> papertear_cases();
 
 // "<family>/<impl>/<nx>x<ny>x<nl>/threads:<t>", e.g. "step/papertear/90x90x5/threads:2".
@@ -49,8 +52,14 @@ double timed(const Body& body) {
 void set_throughput_counters(benchmark::State& state, const Size& size, double springs_per_iteration,
                              double total_seconds, const char* per_cell_counter);
 
+// Bytes of solver state per cell (node columns, RK4 scratch, cell table and per-cell data,
+// block-lattice springs) of a built world: what one step streams through at least once.
+double bytes_per_cell(const World& world);
+
 // Each registers its cases with Google Benchmark (called once, from main).
 void register_step_benchmarks();
 void register_force_benchmarks();
+void register_fracture_benchmarks();
+void register_probe_benchmarks();
 
 }  // namespace papertear::bench

@@ -9,6 +9,8 @@ int main(int argc, char** argv) {
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   papertear::bench::register_step_benchmarks();
   papertear::bench::register_force_benchmarks();
+  papertear::bench::register_fracture_benchmarks();
+  papertear::bench::register_probe_benchmarks();
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
   return 0;

@@ -40,6 +40,8 @@ void step_papertear(benchmark::State& state, Case c) {
     seconds += t;
   }
   set_throughput_counters(state, c.size, springs_per_step(c.size), seconds, "ns_per_cell_step");
+  state.counters["bytes_per_cell"] = bytes_per_cell(sim.world());
+  state.counters["block_springs"] = double(sim.world().coarse.size());
 }
 
 void step_reference(benchmark::State& state, Case c) {

@@ -1,5 +1,6 @@
 #include "core/solver.hpp"
 
+#include <algorithm>
 #include <limits>
 #include <sstream>
 
@@ -51,24 +52,47 @@ StageParams stage_params(const World& w, int stage) {
   throw BlowUpError(msg.str(), w.step + 1, node);
 }
 
+// Runs two independent chunked loops as one parallel region: one barrier instead of two.
+// Chunk boundaries are those each loop would have alone, so nothing depends on the thread
+// count.
+template <class BodyA, class BodyB>
+void parallel_chunks_pair(std::size_t na, std::size_t chunk_a, const BodyA& body_a, std::size_t nb,
+                          std::size_t chunk_b, const BodyB& body_b) {
+  const std::size_t ca = chunk_count(na, chunk_a), cb = chunk_count(nb, chunk_b);
+  parallel_chunks(ca + cb, 1, [&](std::size_t c, std::size_t, std::size_t) {
+    if (c < ca) {
+      const std::size_t b = c * chunk_a;
+      body_a(b, std::min(b + chunk_a, na));
+    } else {
+      const std::size_t b = (c - ca) * chunk_b;
+      body_b(b, std::min(b + chunk_b, nb));
+    }
+  });
+}
+
 }  // namespace
 
 void evaluate_forces(World& w, SolverScratch& scratch) {
   const CellForceInputs in = stage_inputs(w);
   const ForceOutputs out{w.scratch.fx.data(), w.scratch.fy.data(), w.scratch.fz.data()};
-  for (const auto& cells : w.topo.colour_cells)
+  BlockLattice& lattice = scratch.lattice;
+  if (!lattice.matches(w.coarse)) build_block_lattice(w.coarse, w.blocks, w.topo.dims, lattice);
+  // Colour 0 shares its region with pass 1 of the block lattice: both read the stage state
+  // and they write disjoint outputs (node forces vs per-block corner sums).
+  const auto& first = w.topo.colour_cells[0];
+  parallel_chunks_pair(
+      first.size(), kCellChunk, [&](std::size_t b, std::size_t e) { add_cell_forces(b, e, first.data(), in, out); },
+      lattice.lanes, kBlockChunk, [&](std::size_t b, std::size_t e) { block_lattice_forces(b, e, in, lattice); });
+  for (std::size_t colour = 1; colour < w.topo.colour_cells.size(); ++colour) {
+    const auto& cells = w.topo.colour_cells[colour];
     parallel_chunks(cells.size(), kCellChunk, [&](std::size_t b, std::size_t e, std::size_t) {
       add_cell_forces(b, e, cells.data(), in, out);
     });
-  const std::size_t n = w.coarse.size();
-  if (n == 0) return;
-  scratch.coarse.fx.resize(n);
-  scratch.coarse.fy.resize(n);
-  scratch.coarse.fz.resize(n);
-  parallel_chunks(n, kSpringChunk, [&](std::size_t b, std::size_t e, std::size_t) {
-    coarse_spring_forces(b, e, w.coarse, w.topo, in, scratch.coarse);
+  }
+  if (lattice.lanes == 0) return;
+  parallel_chunks(lattice.first.size() - 1, kVertexChunk, [&](std::size_t b, std::size_t e, std::size_t) {
+    gather_block_lattice_forces(b, e, lattice, w.blocks, w.topo, out);
   });
-  scatter_coarse_forces(w.coarse, w.topo, scratch.coarse, out);
 }
 
 void integrate_step(World& w, SolverScratch& scratch) {

@@ -2,9 +2,15 @@
 //
 // Per stage, in this order (each line is one or more parallel regions; kernels/parallel.hpp
 // explains why the result does not depend on the thread count):
-//   1. fine springs, colour 0 .. 7       parallel over the cells of one colour (no shared nodes)
-//   2. block-lattice springs             parallel per spring, then a serial scatter in spring order
+//   1. fine springs, colour 0 .. 7       parallel over the cells of one colour (no shared nodes);
+//      block lattice, pass 1             parallel over blocks (8 per vector), in the same region
+//                                        as colour 0: one force sum per block corner
+//   2. block lattice, pass 2             parallel over lattice vertices, each adding the corner
+//                                        sums of its blocks in ascending block id
+//                                        (kernels/coarse_forces.hpp)
 //   3. node update (kernels/rk4.hpp)     parallel over nodes; clears forces for the next stage
+// That is 10 parallel regions per stage. Each node's force is its cells' terms in colour
+// order, then its blocks' corner sums in block order, whatever the thread count.
 // Gripped nodes get their prescribed velocity before stage 1. After stage 4 the step checks
 // for a blow-up (non-finite or runaway state) and throws BlowUpError naming the step and node.
 // Fracture (fracture/fracture_pass.hpp) runs after the step, serially.
@@ -18,14 +24,16 @@
 namespace papertear {
 
 struct SolverScratch {
-  CoarseForceScratch coarse;
+  BlockLattice lattice;  // built on first use, rebuilt when the block springs are
   std::vector<std::uint32_t> bad;  // per node chunk: the first node that blew up
 };
 
 // Chunk sizes (elements per task). Fixed numbers, never derived from the thread count.
 inline constexpr std::size_t kCellChunk = 512;
 inline constexpr std::size_t kNodeChunk = 2048;
-inline constexpr std::size_t kSpringChunk = 4096;
+inline constexpr std::size_t kVertexChunk = 2048;
+inline constexpr std::size_t kBlockChunk = 256;  // block-lattice lanes
+static_assert(kBlockChunk % kBlockLanes == 0, "block chunks hold whole vectors");
 
 // Evaluates all spring forces at the stage state into scratch.fx/fy/fz (which must be zero).
 void evaluate_forces(World& world, SolverScratch& scratch);

@@ -1,6 +1,8 @@
 #include "fracture/fracture_pass.hpp"
 
 #include <algorithm>
+#include <array>
+#include <bit>
 #include <cmath>
 #include <limits>
 
@@ -8,6 +10,16 @@
 #include "fracture/node_cells.hpp"
 #include "kernels/parallel.hpp"
 #include "kernels/spring.hpp"
+
+#if defined(__AVX512F__)
+// GCC 12 warns inside its own avx512fintrin.h where an _mm512_undefined_* is inlined
+// (uninitialised by design), as in kernels/lanes.hpp.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wuninitialized"
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
+#include <immintrin.h>
+#endif
 
 namespace papertear {
 namespace {
@@ -27,16 +39,84 @@ float face_strength(const World& w, std::uint32_t cell, int axis, int side) {
   return w.topo.face_strain[std::size_t(cell) * kFacesPerCell + std::size_t(2 * axis + side)];
 }
 
+// The largest squared length d2 for which an edge of this slot cannot be a candidate when
+// every bond it could open has strength >= `weakest`. Strain is (sqrt(d2) - L0) / L0 in
+// float, and correctly rounded sqrt, subtraction and division by L0 > 0 are each
+// monotonic, so strain is monotonic in d2: if d2 <= bound then strain(d2) <= strain(bound)
+// <= weakest. The bound is found in double and then stepped down until the float formula
+// itself confirms it, so the filter never drops a candidate that the exact test would keep.
+float safe_squared_length(float rest, float weakest) {
+  if (!(weakest < INFINITY)) return INFINITY;  // unbreakable: no strain exceeds it
+  auto strain = [rest](float d2) { return (std::sqrt(d2) - rest) / rest; };
+  const double len = (1.0 + double(weakest)) * double(rest);
+  float bound = float(len * len * (1.0 - 1e-6));
+  for (int tries = 0; tries < 64 && bound > 0.0f; ++tries) {
+    if (strain(bound) <= weakest) return bound;
+    bound = std::nextafter(bound, 0.0f) * (1.0f - 1e-6f);
+  }
+  return -INFINITY;  // no safe bound found: check every edge exactly
+}
+
+// Bit s set when edge s of the cell (corners x, y, z) has squared length above bound[s]
+// (false for NaN, like the exact test). Candidates are ascending in s either way.
+constexpr std::array<int, 16> kEdgeEnd(int which) {
+  std::array<int, 16> out{};
+  for (int s = 0; s < kEdgesPerCell; ++s) out[std::size_t(s)] = which ? kSpringSlots[std::size_t(s)].b : kSpringSlots[std::size_t(s)].a;
+  return out;
+}
+alignas(64) constexpr std::array<int, 16> kEdgeA = kEdgeEnd(0), kEdgeB = kEdgeEnd(1);
+
+#if defined(__AVX512F__)
+unsigned edges_over_bound(const float (&x)[8], const float (&y)[8], const float (&z)[8], const float (&bound)[16]) {
+  const __m512i ia = _mm512_load_si512(kEdgeA.data()), ib = _mm512_load_si512(kEdgeB.data());
+  auto diff = [&](const float (&v)[8]) {
+    const __m512 all = _mm512_zextps256_ps512(_mm256_load_ps(v));
+    return _mm512_sub_ps(_mm512_permutexvar_ps(ib, all), _mm512_permutexvar_ps(ia, all));
+  };
+  const __m512 dx = diff(x), dy = diff(y), dz = diff(z);
+  const __m512 d2 = _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(dx, dx), _mm512_mul_ps(dy, dy)), _mm512_mul_ps(dz, dz));
+  return unsigned(_mm512_cmp_ps_mask(d2, _mm512_loadu_ps(bound), _CMP_GT_OQ)) & 0xfffu;
+}
+#else
+unsigned edges_over_bound(const float (&x)[8], const float (&y)[8], const float (&z)[8], const float (&bound)[16]) {
+  unsigned over = 0;
+  for (int s = 0; s < kEdgesPerCell; ++s) {
+    const SpringSlot& slot = kSpringSlots[std::size_t(s)];
+    const float dx = x[slot.b] - x[slot.a], dy = y[slot.b] - y[slot.a], dz = z[slot.b] - z[slot.a];
+    if (dx * dx + dy * dy + dz * dz > bound[s]) over |= 1u << s;
+  }
+  return over;
+}
+#endif
+
+// Candidates among cells [begin, end). Most edges are far from breaking, so each is first
+// compared by squared length against a bound valid for the whole chunk (no sqrt, no
+// division); only edges above it take the exact test, which alone decides.
 void detect(std::size_t begin, std::size_t end, const World& w, std::vector<FractureCandidate>& out) {
   out.clear();
-  for (std::size_t c = begin; c < end; ++c)
-    for (int s = 0; s < kEdgesPerCell; ++s) {
+  const float* strength = w.topo.face_strain.data();
+  float weakest = INFINITY;
+  for (std::size_t i = begin * kFacesPerCell; i < end * kFacesPerCell; ++i) weakest = std::min(weakest, strength[i]);
+  float bound[16] = {};
+  for (int s = 0; s < kEdgesPerCell; ++s) bound[s] = safe_squared_length(w.springs.rest[std::size_t(s)], weakest);
+  const NodeStore& n = w.nodes;
+  for (std::size_t c = begin; c < end; ++c) {
+    const std::uint32_t* corner = w.topo.cell_nodes.data() + c * 8;
+    alignas(32) float x[8], y[8], z[8];
+    for (int q = 0; q < 8; ++q) {
+      x[q] = n.px[corner[q]];
+      y[q] = n.py[corner[q]];
+      z[q] = n.pz[corner[q]];
+    }
+    for (unsigned over = edges_over_bound(x, y, z, bound); over != 0; over &= over - 1) {
+      const int s = std::countr_zero(over);
       const int axis = kSpringSlots[std::size_t(s)].axis;
       const float weaker = std::min(face_strength(w, std::uint32_t(c), axis, 0),
                                     face_strength(w, std::uint32_t(c), axis, 1));
       const float strain = edge_strain(w, std::uint32_t(c), s);
       if (strain > weaker) out.push_back({strain / weaker, std::uint32_t(c) * kSpringsPerCell + std::uint32_t(s)});
     }
+  }
 }
 
 // Σ|f| over the springs attached to a node: its cells' fine springs and intact block springs.

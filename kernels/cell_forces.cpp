@@ -1,16 +1,62 @@
 #include "kernels/cell_forces.hpp"
 
+#include <type_traits>
+
 #include "kernels/lanes.hpp"
+
+#if !defined(PAPERTEAR_NO_SIMD) && XSIMD_WITH_AVX2
+#include <immintrin.h>
+#endif
+#if defined(__SSE__) || defined(_M_X64)
+#include <xmmintrin.h>
+#define PAPERTEAR_HAS_MXCSR 1
+#endif
 
 namespace papertear {
 namespace {
 
+// The 28 springs of W cells at once, on corner values already in registers; adds each
+// spring's force into the corner sums f*. Every loader below feeds this one body, so a cell
+// gets the same operations in the same order whichever way its corners were fetched.
+template <class V>
+struct CellSprings {
+  using T = lanes::Traits<V>;
+
+  static void run(const V (&x)[8], const V (&y)[8], const V (&z)[8], const V (&u)[8], const V (&v)[8],
+                  const V (&w)[8], const V& s, const SpringTable& tab, V (&fx)[8], V (&fy)[8], V (&fz)[8]) {
+    const V one = T::broadcast(1.0f);
+    for (int q = 0; q < 8; ++q) fx[q] = fy[q] = fz[q] = T::broadcast(0.0f);
+    // Fully unrolled, so that corner values and sums index registers, not a stack array.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC unroll 28
+#elif defined(__clang__)
+#pragma unroll
+#endif
+    for (int i = 0; i < kSpringsPerCell; ++i) {
+      const int a = kSpringSlots[std::size_t(i)].a, b = kSpringSlots[std::size_t(i)].b;
+      const V dx = x[b] - x[a], dy = y[b] - y[a], dz = z[b] - z[a];
+      const V du = u[b] - u[a], dv = v[b] - v[a], dw = w[b] - w[a];
+      const V len = T::sqrt(dx * dx + dy * dy + dz * dz);
+      const V inv = one / len;
+      const V k = s * T::broadcast(tab.stiffness[std::size_t(i)]);
+      const V c = s * T::broadcast(tab.damping[std::size_t(i)]);
+      const V rate = (du * dx + dv * dy + dw * dz) * inv;  // Δv · d̂
+      const V mag = k * (len - T::broadcast(tab.rest[std::size_t(i)])) + c * rate;
+      const V g = mag * inv;
+      const V gx = g * dx, gy = g * dy, gz = g * dz;
+      fx[a] = fx[a] + gx; fy[a] = fy[a] + gy; fz[a] = fz[a] + gz;
+      fx[b] = fx[b] - gx; fy[b] = fy[b] - gy; fz[b] = fz[b] - gz;
+    }
+  }
+};
+
+// Any W cells of one colour: corners fetched with scalar loads into an aligned buffer, then
+// loaded as vectors; forces scattered back one node at a time.
 template <class V>
 struct CellLanes {
   using T = lanes::Traits<V>;
   static constexpr std::size_t W = T::width;
 
-  // Loads the 8 corners of W cells, evaluates their 28 springs, scatters corner forces.
   static void run(const std::uint32_t* cells, const CellForceInputs& in, const ForceOutputs& out) {
     alignas(64) float buf[6][8][W];
     alignas(64) std::uint32_t node[8][W];
@@ -31,26 +77,8 @@ struct CellLanes {
     for (int q = 0; q < 8; ++q) {
       x[q] = T::load(buf[0][q]); y[q] = T::load(buf[1][q]); z[q] = T::load(buf[2][q]);
       u[q] = T::load(buf[3][q]); v[q] = T::load(buf[4][q]); w[q] = T::load(buf[5][q]);
-      fx[q] = fy[q] = fz[q] = T::broadcast(0.0f);
     }
-    const V s = T::load(scale);
-    const V one = T::broadcast(1.0f);
-    const SpringTable& tab = *in.table;
-    for (int i = 0; i < kSpringsPerCell; ++i) {
-      const int a = kSpringSlots[std::size_t(i)].a, b = kSpringSlots[std::size_t(i)].b;
-      const V dx = x[b] - x[a], dy = y[b] - y[a], dz = z[b] - z[a];
-      const V du = u[b] - u[a], dv = v[b] - v[a], dw = w[b] - w[a];
-      const V len = T::sqrt(dx * dx + dy * dy + dz * dz);
-      const V inv = one / len;
-      const V k = s * T::broadcast(tab.stiffness[std::size_t(i)]);
-      const V c = s * T::broadcast(tab.damping[std::size_t(i)]);
-      const V rate = (du * dx + dv * dy + dw * dz) * inv;  // Δv · d̂
-      const V mag = k * (len - T::broadcast(tab.rest[std::size_t(i)])) + c * rate;
-      const V g = mag * inv;
-      const V gx = g * dx, gy = g * dy, gz = g * dz;
-      fx[a] = fx[a] + gx; fy[a] = fy[a] + gy; fz[a] = fz[a] + gz;
-      fx[b] = fx[b] - gx; fy[b] = fy[b] - gy; fz[b] = fz[b] - gz;
-    }
+    CellSprings<V>::run(x, y, z, u, v, w, T::load(scale), *in.table, fx, fy, fz);
     for (int q = 0; q < 8; ++q) {
       T::store(buf[0][q], fx[q]); T::store(buf[1][q], fy[q]); T::store(buf[2][q], fz[q]);
     }
@@ -64,24 +92,120 @@ struct CellLanes {
   }
 };
 
+// Eight cells per AVX2 vector even where AVX-512 offers sixteen: measured on the development
+// machine, sixteen lanes were slower (48 corner values and 24 sums spill either way, and
+// fewer 16-cell groups fit a row; bench/README.md).
+#if !defined(PAPERTEAR_NO_SIMD) && XSIMD_WITH_AVX2
+#define PAPERTEAR_CELL_REGULAR 1
+using CellLane = xsimd::batch<float, xsimd::avx2>;
+
+// Lanes l = 0..7 of (src[base + 2l], src[base + 2l + 1]).
+inline void load_pair(const float* p, __m256& even, __m256& odd) {
+  const __m256 lo = _mm256_loadu_ps(p), hi = _mm256_loadu_ps(p + 8);
+  even = _mm256_castpd_ps(_mm256_permute4x64_pd(_mm256_castps_pd(_mm256_shuffle_ps(lo, hi, 0x88)), 0xD8));
+  odd = _mm256_castpd_ps(_mm256_permute4x64_pd(_mm256_castps_pd(_mm256_shuffle_ps(lo, hi, 0xDD)), 0xD8));
+}
+
+// dst[base + 2l] += even[l], dst[base + 2l + 1] += odd[l].
+inline void add_pair(float* p, __m256 even, __m256 odd) {
+  const __m256 a = _mm256_unpacklo_ps(even, odd), b = _mm256_unpackhi_ps(even, odd);
+  _mm256_storeu_ps(p, _mm256_add_ps(_mm256_loadu_ps(p), _mm256_permute2f128_ps(a, b, 0x20)));
+  _mm256_storeu_ps(p + 8, _mm256_add_ps(_mm256_loadu_ps(p + 8), _mm256_permute2f128_ps(a, b, 0x31)));
+}
+
+// A "regular" group: 8 cells of a colour along one row (ids c, c+2, ..., c+14) whose corner
+// nodes also advance by 2 per cell, with each dx = 1 corner the node right after its dx = 0
+// corner. Before any split that is every group inside a row (a group straddles a row end
+// about once per row and takes the general path; handling two runs per group with blends
+// and masked stores measured no faster). Then the 16 nodes of a corner pair (dy, dz) are
+// contiguous: two vector loads and an even/odd shuffle fetch them for all 8 cells, and the
+// forces go back the same way. Each lane still sees exactly the values the general loader
+// would give it, and each node still gets one addition, so the bits match.
+struct RegularGroup {
+  using V = CellLane;
+
+  // The first node of each corner pair (dy, dz), or false when the group is not regular.
+  static bool bases(const std::uint32_t* cells, const std::uint32_t* cell_nodes, std::uint32_t (&base)[4]) {
+    const __m256i two_l = _mm256_setr_epi32(0, 2, 4, 6, 8, 10, 12, 14);
+    const __m256i ids = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(cells));
+    __m256i same = _mm256_cmpeq_epi32(ids, _mm256_add_epi32(_mm256_set1_epi32(int(cells[0])), two_l));
+    if (_mm256_movemask_epi8(same) != -1) return false;
+    const std::uint32_t* row0 = cell_nodes + std::size_t(cells[0]) * 8;
+    const __m256i first = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(row0));
+    for (int l = 1; l < 8; ++l) {
+      const __m256i row = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(row0 + 16 * l));
+      same = _mm256_and_si256(same, _mm256_cmpeq_epi32(row, _mm256_add_epi32(first, _mm256_set1_epi32(2 * l))));
+    }
+    if (_mm256_movemask_epi8(same) != -1) return false;
+    for (int p = 0; p < 4; ++p) {
+      if (row0[2 * p + 1] != row0[2 * p] + 1) return false;
+      base[p] = row0[2 * p];
+    }
+    return true;
+  }
+
+  static bool run(const std::uint32_t* cells, const CellForceInputs& in, const ForceOutputs& out) {
+    std::uint32_t base[4];
+    if (!bases(cells, in.cell_nodes, base)) return false;
+    V x[8], y[8], z[8], u[8], v[8], w[8];
+    const float* src[6] = {in.px, in.py, in.pz, in.vx, in.vy, in.vz};
+    V* dst[6] = {x, y, z, u, v, w};
+    for (int p = 0; p < 4; ++p)
+      for (int f = 0; f < 6; ++f) {
+        __m256 even, odd;
+        load_pair(src[f] + base[p], even, odd);
+        dst[f][2 * p] = even;
+        dst[f][2 * p + 1] = odd;
+      }
+    alignas(32) float scale[8];
+    for (int l = 0; l < 8; ++l) scale[l] = in.cell_scale[cells[l]];
+    V fx[8], fy[8], fz[8];
+    CellSprings<V>::run(x, y, z, u, v, w, V::load_aligned(scale), *in.table, fx, fy, fz);
+    float* dst_f[3] = {out.fx, out.fy, out.fz};
+    const V* force[3] = {fx, fy, fz};
+    for (int p = 0; p < 4; ++p)
+      for (int f = 0; f < 3; ++f) add_pair(dst_f[f] + base[p], force[f][2 * p], force[f][2 * p + 1]);
+    return true;
+  }
+};
+#else
+using CellLane = lanes::Wide;
+#endif
+
 template <class V>
 void add_forces_with(std::size_t begin, std::size_t end, const std::uint32_t* cells,
                      const CellForceInputs& in, const ForceOutputs& out) {
   constexpr std::size_t W = CellLanes<V>::W;
   std::size_t i = begin;
-  for (; i + W <= end; i += W) CellLanes<V>::run(cells + i, in, out);
+  for (; i + W <= end; i += W) {
+#ifdef PAPERTEAR_CELL_REGULAR
+    if constexpr (std::is_same_v<V, CellLane>)
+      if (RegularGroup::run(cells + i, in, out)) continue;
+#endif
+    CellLanes<V>::run(cells + i, in, out);
+  }
   for (; i < end; ++i) CellLanes<float>::run(cells + i, in, out);
 }
 
 }  // namespace
 
+#ifdef PAPERTEAR_HAS_MXCSR
+FlushSubnormals::FlushSubnormals() : saved_(_mm_getcsr()) { _mm_setcsr(saved_ | _MM_FLUSH_ZERO_ON | 0x0040u /* DAZ */); }
+FlushSubnormals::~FlushSubnormals() { _mm_setcsr(saved_); }
+#else
+FlushSubnormals::FlushSubnormals() = default;
+FlushSubnormals::~FlushSubnormals() = default;
+#endif
+
 void add_cell_forces(std::size_t begin, std::size_t end, const std::uint32_t* cells,
                      const CellForceInputs& in, const ForceOutputs& out) {
-  add_forces_with<lanes::Wide>(begin, end, cells, in, out);
+  const FlushSubnormals flush;
+  add_forces_with<CellLane>(begin, end, cells, in, out);
 }
 
 void add_cell_forces_scalar(std::size_t begin, std::size_t end, const std::uint32_t* cells,
                             const CellForceInputs& in, const ForceOutputs& out) {
+  const FlushSubnormals flush;
   add_forces_with<float>(begin, end, cells, in, out);
 }
 

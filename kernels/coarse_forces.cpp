@@ -1,29 +1,240 @@
 #include "kernels/coarse_forces.hpp"
 
-#include "kernels/spring.hpp"
+#include <algorithm>
+
+#include "kernels/lanes.hpp"
 
 namespace papertear {
+namespace {
 
-void coarse_spring_forces(std::size_t begin, std::size_t end, const CoarseSprings& sp,
-                          const Topology& topo, const CellForceInputs& in, CoarseForceScratch& out) {
-  for (std::size_t i = begin; i < end; ++i) {
-    if (sp.stiffness[i] == 0.0f && sp.damping[i] == 0.0f) {
-      out.fx[i] = out.fy[i] = out.fz[i] = 0.0f;
-      continue;
+// A dead spring (block entered by a crack) contributes exactly +0, as if skipped; computing
+// and then discarding keeps the vector body branch-free.
+inline float zero_where_dead(float f, float k, float c) { return (k == 0.0f && c == 0.0f) ? 0.0f : f; }
+#ifndef PAPERTEAR_NO_SIMD
+template <class A>
+xsimd::batch<float, A> zero_where_dead(const xsimd::batch<float, A>& f, const xsimd::batch<float, A>& k,
+                                       const xsimd::batch<float, A>& c) {
+  using V = xsimd::batch<float, A>;
+  return xsimd::select((k == V(0.0f)) & (c == V(0.0f)), V(0.0f), f);
+}
+#endif
+
+// Where each spring's ends live in topo.cell_nodes.
+struct SlotsFromSprings {
+  const CoarseSprings& s;
+  std::uint32_t slot_a(std::size_t i) const { return s.cell_a[i] * 8u + s.corner_a[i]; }
+  std::uint32_t slot_b(std::size_t i) const { return s.cell_b[i] * 8u + s.corner_b[i]; }
+};
+
+// W springs at a time: their 12 end values and 3 parameters are fetched with scalar loads
+// into an aligned buffer, the formula (kernels/spring.hpp, same operations in the same
+// order) runs on vectors, and the forces go back through the buffer.
+template <class V>
+struct CoarseLanes {
+  using T = lanes::Traits<V>;
+  static constexpr std::size_t W = T::width;
+
+  template <class Slots>
+  static void run(std::size_t i0, const Slots& slots, const CoarseSprings& sp, const CellForceInputs& in,
+                  CoarseForceScratch& out) {
+    alignas(64) float buf[15][W];
+    const float* src[6] = {in.px, in.py, in.pz, in.vx, in.vy, in.vz};
+    for (std::size_t l = 0; l < W; ++l) {
+      const std::size_t i = i0 + l;
+      const std::uint32_t a = in.cell_nodes[slots.slot_a(i)], b = in.cell_nodes[slots.slot_b(i)];
+      for (int f = 0; f < 6; ++f) {
+        buf[f][l] = src[f][a];
+        buf[6 + f][l] = src[f][b];
+      }
+      buf[12][l] = sp.rest[i];
+      buf[13][l] = sp.stiffness[i];
+      buf[14][l] = sp.damping[i];
     }
-    const std::uint32_t a = topo.node(sp.cell_a[i], sp.corner_a[i]);
-    const std::uint32_t b = topo.node(sp.cell_b[i], sp.corner_b[i]);
-    const SpringEval e = eval_spring(in.px[a], in.py[a], in.pz[a], in.px[b], in.py[b], in.pz[b],
-                                     in.vx[a], in.vy[a], in.vz[a], in.vx[b], in.vy[b], in.vz[b],
-                                     sp.rest[i], sp.stiffness[i], sp.damping[i]);
-    out.fx[i] = e.fx;
-    out.fy[i] = e.fy;
-    out.fz[i] = e.fz;
+    const V dx = T::load(buf[6]) - T::load(buf[0]);
+    const V dy = T::load(buf[7]) - T::load(buf[1]);
+    const V dz = T::load(buf[8]) - T::load(buf[2]);
+    const V len = T::sqrt(dx * dx + dy * dy + dz * dz);
+    const V inv = T::broadcast(1.0f) / len;
+    const V rate = ((T::load(buf[9]) - T::load(buf[3])) * dx + (T::load(buf[10]) - T::load(buf[4])) * dy +
+                    (T::load(buf[11]) - T::load(buf[5])) * dz) * inv;
+    const V k = T::load(buf[13]), c = T::load(buf[14]);
+    const V mag = k * (len - T::load(buf[12])) + c * rate;
+    const V g = mag * inv;
+    T::store(buf[0], zero_where_dead(g * dx, k, c));
+    T::store(buf[1], zero_where_dead(g * dy, k, c));
+    T::store(buf[2], zero_where_dead(g * dz, k, c));
+    for (std::size_t l = 0; l < W; ++l) {
+      out.fx[i0 + l] = buf[0][l];
+      out.fy[i0 + l] = buf[1][l];
+      out.fz[i0 + l] = buf[2][l];
+    }
+  }
+};
+
+template <class Slots>
+void spring_forces_with(std::size_t begin, std::size_t end, const Slots& slots, const CoarseSprings& sp,
+                        const CellForceInputs& in, CoarseForceScratch& out) {
+  constexpr std::size_t W = CoarseLanes<lanes::Wide>::W;
+  std::size_t i = begin;
+  for (; i + W <= end; i += W) CoarseLanes<lanes::Wide>::run(i, slots, sp, in, out);
+  for (; i < end; ++i) CoarseLanes<float>::run(i, slots, sp, in, out);
+}
+
+std::uint32_t end_vertex(const LatticeDims& d, std::uint32_t cell, int corner) {
+  const auto ijk = d.cell_ijk(cell);
+  return d.vertex_index(ijk[0] + corner_bit(corner, 0), ijk[1] + corner_bit(corner, 1),
+                        ijk[2] + corner_bit(corner, 2));
+}
+
+// W blocks' 28 springs on their 8 corners (the cell kernel's body with per-lane slot
+// parameters). An absent spring (k = c = 0) is zeroed by select, so even a degenerate
+// zero-length pair adds exactly nothing.
+template <class V>
+struct BlockLanes {
+  using T = lanes::Traits<V>;
+  static constexpr std::size_t W = T::width;
+
+  static void run(std::size_t j, const CellForceInputs& in, BlockLattice& L) {
+    const std::size_t P = L.lanes;
+    alignas(64) float buf[6][8][W];
+    const float* src[6] = {in.px, in.py, in.pz, in.vx, in.vy, in.vz};
+    for (int q = 0; q < 8; ++q)
+      for (std::size_t l = 0; l < W; ++l) {
+        const std::uint32_t n = in.cell_nodes[L.corner_slot[std::size_t(q) * P + j + l]];
+        for (int f = 0; f < 6; ++f) buf[f][q][l] = src[f][n];
+      }
+    V x[8], y[8], z[8], u[8], v[8], w[8], fx[8], fy[8], fz[8];
+    for (int q = 0; q < 8; ++q) {
+      x[q] = T::load(buf[0][q]); y[q] = T::load(buf[1][q]); z[q] = T::load(buf[2][q]);
+      u[q] = T::load(buf[3][q]); v[q] = T::load(buf[4][q]); w[q] = T::load(buf[5][q]);
+      fx[q] = fy[q] = fz[q] = T::broadcast(0.0f);
+    }
+    const V one = T::broadcast(1.0f);
+    // Fully unrolled, so that corner values and sums index registers, not a stack array.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC unroll 28
+#elif defined(__clang__)
+#pragma unroll
+#endif
+    for (int i = 0; i < kSpringsPerCell; ++i) {
+      const int a = kSpringSlots[std::size_t(i)].a, b = kSpringSlots[std::size_t(i)].b;
+      const std::size_t at = std::size_t(i) * P + j;
+      const V k = T::load(L.stiffness.data() + at), c = T::load(L.damping.data() + at);
+      const V dx = x[b] - x[a], dy = y[b] - y[a], dz = z[b] - z[a];
+      const V len = T::sqrt(dx * dx + dy * dy + dz * dz);
+      const V inv = one / len;
+      const V rate = ((u[b] - u[a]) * dx + (v[b] - v[a]) * dy + (w[b] - w[a]) * dz) * inv;
+      const V mag = k * (len - T::load(L.rest.data() + at)) + c * rate;
+      const V g = mag * inv;
+      const V gx = zero_where_dead(g * dx, k, c), gy = zero_where_dead(g * dy, k, c),
+              gz = zero_where_dead(g * dz, k, c);
+      fx[a] = fx[a] + gx; fy[a] = fy[a] + gy; fz[a] = fz[a] + gz;
+      fx[b] = fx[b] - gx; fy[b] = fy[b] - gy; fz[b] = fz[b] - gz;
+    }
+    for (int q = 0; q < 8; ++q) {
+      const std::size_t at = std::size_t(q) * P + j;
+      T::store(L.fx.data() + at, fx[q]); T::store(L.fy.data() + at, fy[q]); T::store(L.fz.data() + at, fz[q]);
+    }
+  }
+};
+
+// Eight blocks per vector where AVX2 exists, for the cell kernel's reason (registers).
+#if !defined(PAPERTEAR_NO_SIMD) && XSIMD_WITH_AVX2
+using BlockLane = xsimd::batch<float, xsimd::avx2>;
+#else
+using BlockLane = lanes::Wide;
+#endif
+static_assert(kBlockLanes % lanes::Traits<BlockLane>::width == 0, "lane padding fits the vector width");
+
+}  // namespace
+
+void build_block_lattice(const CoarseSprings& sp, const std::vector<Block>& blocks, const LatticeDims& d,
+                         BlockLattice& L) {
+  std::vector<std::uint32_t> with_springs;
+  for (std::uint32_t b = 0; b < blocks.size(); ++b)
+    if (blocks[b].spring_count > 0) with_springs.push_back(b);
+  const std::size_t P = (with_springs.size() + kBlockLanes - 1) / kBlockLanes * kBlockLanes;
+  L.lanes = P;
+  L.block.assign(P, UINT32_MAX);
+  L.corner_slot.resize(8 * P);
+  std::fill(L.corner_slot.begin(), L.corner_slot.end(), 0u);
+  for (AlignedArray<float>* a : {&L.rest, &L.stiffness, &L.damping}) {
+    a->resize(kSpringsPerCell * P);
+    std::fill(a->begin(), a->end(), 0.0f);
+  }
+  for (AlignedArray<float>* a : {&L.fx, &L.fy, &L.fz}) a->resize(8 * P);
+  std::vector<std::uint8_t> used(8 * P, 0);
+  for (std::size_t j = 0; j < with_springs.size(); ++j) {
+    const Block& blk = blocks[with_springs[j]];
+    L.block[j] = with_springs[j];
+    for (std::uint32_t i = blk.first_spring; i < blk.first_spring + blk.spring_count; ++i) {
+      int slot = 0;
+      while (kSpringSlots[std::size_t(slot)].a != sp.corner_a[i] || kSpringSlots[std::size_t(slot)].b != sp.corner_b[i]) ++slot;
+      const std::size_t at = std::size_t(slot) * P + j;
+      L.rest[at] = sp.rest[i];
+      L.stiffness[at] = sp.stiffness[i];
+      L.damping[at] = sp.damping[i];
+      L.corner_slot[std::size_t(sp.corner_a[i]) * P + j] = sp.cell_a[i] * 8u + sp.corner_a[i];
+      L.corner_slot[std::size_t(sp.corner_b[i]) * P + j] = sp.cell_b[i] * 8u + sp.corner_b[i];
+      used[std::size_t(sp.corner_a[i]) * P + j] = used[std::size_t(sp.corner_b[i]) * P + j] = 1;
+    }
+  }
+  // Per vertex, the used block corners in ascending lane order, which is ascending block id.
+  const std::size_t vertices = std::size_t(d.vertices());
+  L.first.assign(vertices + 1, 0);
+  auto vertex_of = [&](std::size_t j, int q) {
+    const std::uint32_t s = L.corner_slot[std::size_t(q) * P + j];
+    return end_vertex(d, s / 8u, int(s % 8u));
+  };
+  for (std::size_t j = 0; j < P; ++j)
+    for (int q = 0; q < 8; ++q)
+      if (used[std::size_t(q) * P + j]) ++L.first[vertex_of(j, q) + 1];
+  for (std::size_t v = 0; v < vertices; ++v) L.first[v + 1] += L.first[v];
+  L.entry.resize(L.first[vertices]);
+  L.entry_slot.resize(L.first[vertices]);
+  std::vector<std::uint32_t> fill(L.first.begin(), L.first.end() - 1);
+  for (std::size_t j = 0; j < P; ++j)
+    for (int q = 0; q < 8; ++q)
+      if (used[std::size_t(q) * P + j]) {
+        const std::uint32_t v = vertex_of(j, q);
+        L.entry[fill[v]] = std::uint32_t(j * 8 + std::size_t(q));
+        L.entry_slot[fill[v]++] = L.corner_slot[std::size_t(q) * P + j];
+      }
+  L.springs = sp.size();
+  L.built_from = sp.cell_a.data();
+}
+
+void block_lattice_forces(std::size_t begin, std::size_t end, const CellForceInputs& in, BlockLattice& L) {
+  const FlushSubnormals flush;
+  constexpr std::size_t W = BlockLanes<BlockLane>::W;
+  for (std::size_t j = begin; j < end; j += W) BlockLanes<BlockLane>::run(j, in, L);
+}
+
+void gather_block_lattice_forces(std::size_t vbegin, std::size_t vend, const BlockLattice& L,
+                                 const std::vector<Block>& blocks, const Topology& topo, const ForceOutputs& out) {
+  const FlushSubnormals flush;
+  const std::size_t P = L.lanes;
+  const std::uint32_t* cell_nodes = topo.cell_nodes.data();
+  for (std::size_t e = L.first[vbegin]; e < L.first[vend]; ++e) {
+    const std::size_t lane = L.entry[e] / 8u, q = L.entry[e] % 8u;
+    if (!blocks[L.block[lane]].intact) continue;
+    const std::uint32_t node = cell_nodes[L.entry_slot[e]];
+    const std::size_t at = q * P + lane;
+    out.fx[node] += L.fx[at];
+    out.fy[node] += L.fy[at];
+    out.fz[node] += L.fz[at];
   }
 }
 
-void scatter_coarse_forces(const CoarseSprings& sp, const Topology& topo,
-                           const CoarseForceScratch& f, const ForceOutputs& out) {
+void coarse_spring_forces(std::size_t begin, std::size_t end, const CoarseSprings& sp, const Topology&,
+                          const CellForceInputs& in, CoarseForceScratch& out) {
+  const FlushSubnormals flush;
+  spring_forces_with(begin, end, SlotsFromSprings{sp}, sp, in, out);
+}
+
+void scatter_coarse_forces(const CoarseSprings& sp, const Topology& topo, const CoarseForceScratch& f,
+                           const ForceOutputs& out) {
+  const FlushSubnormals flush;
   for (std::size_t i = 0; i < sp.size(); ++i) {
     const std::uint32_t a = topo.node(sp.cell_a[i], sp.corner_a[i]);
     const std::uint32_t b = topo.node(sp.cell_b[i], sp.corner_b[i]);

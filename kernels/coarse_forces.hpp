@@ -1,12 +1,26 @@
 // Forces of the block-lattice ("coarse") springs, MODEL.md §4.
 //
-// Data flow: pass 1 (parallel over springs) reads stage positions/velocities and writes one
-// force vector per spring into per-spring columns; pass 2 (serial, ascending spring id) adds
-// them into the node force columns. No two threads write the same place, and each node's
-// sum is taken in spring order, so the result does not depend on the thread count. Springs
-// of blocks a crack has entered have stiffness and damping 0 and add nothing.
+// The solver's path (BlockLattice): a block's springs join its 8 corners, so a block is
+// evaluated like a cell whose 28 slots have their own rest length, stiffness and damping.
+//   pass 1, parallel over blocks (block_lattice_forces): loads each block's 8 corners once,
+//     runs its springs in slot order and writes one force sum per block corner;
+//   pass 2, parallel over lattice vertices (gather_block_lattice_forces): each vertex adds
+//     the corner sums of the blocks with a corner there, in ascending block id, to the node
+//     that the corner's (cell, corner) names NOW.
+// Why pass 2 is race-free: a node always sits at one lattice vertex (core/world.hpp), and a
+// block corner named (cell, corner) lies at a fixed vertex, so only the task owning that
+// vertex ever writes the nodes there, however fracture has split them. Why it is
+// deterministic: every sum has a fixed order (slots within a block, blocks within a node).
+// The table names cells and corners, not nodes, so splits never invalidate it; it is
+// rebuilt only when the set of springs is. A block a crack has entered (Block::intact
+// false, its springs zeroed) is skipped by the gather, so it adds nothing.
+//
+// The per-spring path (coarse_spring_forces + scatter_coarse_forces) computes the same
+// springs one by one and scatters them serially in spring id order: the plain definition,
+// kept for tests and tools that want one force per spring.
 #pragma once
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "core/world.hpp"
@@ -15,11 +29,41 @@
 namespace papertear {
 
 struct CoarseForceScratch {
-  std::vector<float> fx, fy, fz;
+  std::vector<float> fx, fy, fz;  // force on end a of each spring (end b gets the opposite)
 };
 
+// Lanes hold blocks that have springs, padded to a multiple of kBlockLanes.
+inline constexpr std::size_t kBlockLanes = 16;
+struct BlockLattice {
+  std::size_t lanes = 0;                       // padded lane count
+  std::vector<std::uint32_t> block;            // per lane: block id, or UINT32_MAX (padding)
+  AlignedArray<std::uint32_t> corner_slot{0};  // [corner * lanes + lane]: cell * 8 + corner
+  AlignedArray<float> rest{1}, stiffness{2}, damping{3};  // [slot * lanes + lane]; absent: 0
+  AlignedArray<float> fx{4}, fy{5}, fz{6};     // pass 1 output: [corner * lanes + lane]
+  std::vector<std::uint32_t> first;            // per vertex + 1: offsets into entry/entry_slot
+  std::vector<std::uint32_t> entry;            // lane * 8 + corner, ascending per vertex
+  std::vector<std::uint32_t> entry_slot;       // cell * 8 + corner of that entry
+  std::size_t springs = 0;                     // the CoarseSprings it was built for
+  const std::uint32_t* built_from = nullptr;
+
+  bool matches(const CoarseSprings& s) const {
+    return springs == s.size() && built_from == s.cell_a.data() && !first.empty();
+  }
+};
+
+void build_block_lattice(const CoarseSprings& springs, const std::vector<Block>& blocks,
+                         const LatticeDims& dims, BlockLattice& out);
+// Pass 1 for lanes [begin, end) (multiples of kBlockLanes except at the end).
+void block_lattice_forces(std::size_t begin, std::size_t end, const CellForceInputs& in, BlockLattice& lattice);
+// Pass 2 for lattice vertices [vbegin, vend).
+void gather_block_lattice_forces(std::size_t vbegin, std::size_t vend, const BlockLattice& lattice,
+                                 const std::vector<Block>& blocks, const Topology& topo,
+                                 const ForceOutputs& out);
+
+// One force per spring for springs [begin, end) (vectorised; scalar tail, same bits).
 void coarse_spring_forces(std::size_t begin, std::size_t end, const CoarseSprings& springs,
                           const Topology& topo, const CellForceInputs& in, CoarseForceScratch& out);
+// Adds the per-spring forces to their end nodes, serially in spring id order.
 void scatter_coarse_forces(const CoarseSprings& springs, const Topology& topo,
                            const CoarseForceScratch& forces, const ForceOutputs& out);
 

@@ -2,6 +2,7 @@
 
 #include <limits>
 
+#include "kernels/cell_forces.hpp"
 #include "kernels/lanes.hpp"
 
 namespace papertear {
@@ -94,11 +95,13 @@ std::uint32_t stage_with(std::size_t begin, std::size_t end, const StageParams& 
 
 std::uint32_t rk4_stage(std::size_t begin, std::size_t end, const StageParams& params,
                         NodeStore& nodes, IntegratorScratch& scratch) {
+  const FlushSubnormals flush;  // kernels/cell_forces.hpp: the state stays free of subnormals
   return stage_with<lanes::Wide>(begin, end, params, nodes, scratch);
 }
 
 std::uint32_t rk4_stage_scalar(std::size_t begin, std::size_t end, const StageParams& params,
                                NodeStore& nodes, IntegratorScratch& scratch) {
+  const FlushSubnormals flush;
   return stage_with<float>(begin, end, params, nodes, scratch);
 }
 

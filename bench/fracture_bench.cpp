@@ -1,0 +1,82 @@
+// The fracture pass alone (fracture/fracture_pass.hpp), in two situations:
+//  * fracture/quiet/<size>: the slowly pulled sheet of the step cases, where detection finds
+//    nothing: the pass's cost on most steps of a run, to compare with the step time;
+//  * fracture/tearing/30x20x3: a small sheet pulled fast (the fracture tests' scene), timed
+//    from its first split on, so detection finds candidates and splits happen while it runs.
+// Each iteration advances the world one RK4 step untimed, then times the pass.
+#include <oneapi/tbb/task_arena.h>
+
+#include "bench_cases.hpp"
+#include "core/simulation.hpp"
+#include "core/solver.hpp"
+#include "fracture/fracture_pass.hpp"
+
+namespace papertear::bench {
+namespace {
+
+constexpr int kWarmupSteps = 10;
+constexpr int kMaxStepsToFirstSplit = 6000;
+
+Scene tearing_scene() {
+  Scene s;
+  apply_material_preset(s.material, "copy");
+  s.sheet.cells = {30, 20, 3};
+  s.load.grip_cells = 2;
+  s.load.grip_margin = 2;
+  s.load.notch = 3;
+  s.load.speed = 0.1;
+  s.load.ramp_time = 5.0;
+  return s;
+}
+
+void time_fracture_passes(benchmark::State& state, World world, int threads) {
+  tbb::task_arena arena(threads);
+  SolverScratch solver;
+  FractureScratch fracture;
+  double seconds = 0.0;
+  std::size_t splits = 0;
+  for (auto _ : state) {
+    arena.execute([&] { integrate_step(world, solver); });
+    const double t = timed([&] { arena.execute([&] { splits += fracture_pass(world, fracture); }); });
+    ++world.step;
+    state.SetIterationTime(t);
+    seconds += t;
+  }
+  const double cells = double(world.topo.dims.cells()), iterations = double(state.iterations());
+  state.counters["ns_per_cell"] = iterations > 0 ? seconds * 1e9 / (cells * iterations) : 0.0;
+  state.counters["splits_per_step"] = iterations > 0 ? double(splits) / iterations : 0.0;
+}
+
+void fracture_quiet(benchmark::State& state, Case c) {
+  Simulation sim(quiet_pull_scene(c.size), {.threads = c.threads});
+  sim.step(kWarmupSteps);
+  time_fracture_passes(state, sim.world(), c.threads);
+}
+
+void fracture_tearing(benchmark::State& state, int threads) {
+  Simulation sim(tearing_scene(), {.threads = threads});
+  for (int i = 0; i < kMaxStepsToFirstSplit && sim.world().events.size() < 4; i += 10) sim.step(10);
+  if (sim.world().events.empty()) {
+    state.SkipWithError("the tearing scene did not start tearing");
+    return;
+  }
+  time_fracture_passes(state, sim.world(), threads);
+}
+
+}  // namespace
+
+void register_fracture_benchmarks() {
+  for (const Case& c : papertear_cases()) {
+    benchmark::RegisterBenchmark(case_name("fracture", "quiet", c).c_str(), fracture_quiet, c)
+        ->UseManualTime()
+        ->Unit(benchmark::kMicrosecond);
+  }
+  for (int threads : {1, 2}) {
+    const std::string name = "fracture/tearing/30x20x3/threads:" + std::to_string(threads);
+    benchmark::RegisterBenchmark(name.c_str(), fracture_tearing, threads)
+        ->UseManualTime()
+        ->Unit(benchmark::kMicrosecond);
+  }
+}
+
+}  // namespace papertear::bench

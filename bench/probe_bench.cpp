@@ -1,0 +1,117 @@
+// Machine-ceiling probes: what the hardware can do at best, to put the solver's numbers in
+// proportion (bench/README.md, "measured vs floor").
+//  * probe/triad: STREAM-like a[i] = b[i] + s c[i] over arrays far larger than the caches;
+//    counter bytes_per_s counts 12 bytes per element (two loads, one store; the store's
+//    write-allocate read is not counted, as in STREAM).
+//  * probe/fma: independent fused multiply-add chains on the widest vectors; flops_per_s.
+//  * probe/sqrt_div: one square root and one division per element, the two long-latency
+//    operations every spring needs (kernels/spring.hpp); pairs_per_s is the spring floor.
+// Each runs one task per thread inside a task arena of the case's thread count.
+#include <cstddef>
+#include <vector>
+
+#include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/task_arena.h>
+// GCC 12 warns inside its own avx512fintrin.h where xsimd inlines _mm512_undefined_*
+// (uninitialised by design); see kernels/lanes.hpp.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wuninitialized"
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
+#include <xsimd/xsimd.hpp>
+
+#include "bench_cases.hpp"
+
+namespace papertear::bench {
+namespace {
+
+using Batch = xsimd::batch<float>;
+constexpr std::size_t kTriadElements = std::size_t(1) << 24;  // 64 MiB per array
+constexpr int kChains = 8;
+constexpr int kRounds = 1 << 16;
+
+template <class Body>
+double on_threads(tbb::task_arena& arena, int threads, const Body& body) {
+  return timed([&] {
+    arena.execute([&] {
+      tbb::parallel_for(0, threads, [&](int t) { body(t); }, tbb::static_partitioner());
+    });
+  });
+}
+
+void probe_triad(benchmark::State& state, int threads) {
+  std::vector<float> a(kTriadElements, 0.0f), b(kTriadElements, 1.0f), c(kTriadElements, 2.0f);
+  tbb::task_arena arena(threads);
+  const float s = 3.0f;
+  for (auto _ : state) {
+    const double t = timed([&] {
+      arena.execute([&] {
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, kTriadElements, 1 << 16),
+                          [&](const tbb::blocked_range<std::size_t>& r) {
+                            for (std::size_t i = r.begin(); i < r.end(); ++i) a[i] = b[i] + s * c[i];
+                          },
+                          tbb::static_partitioner());
+      });
+    });
+    benchmark::DoNotOptimize(a.data());
+    benchmark::ClobberMemory();
+    state.SetIterationTime(t);
+  }
+  state.counters["bytes_per_s"] = benchmark::Counter(12.0 * double(kTriadElements), benchmark::Counter::kIsIterationInvariantRate);
+}
+
+void probe_fma(benchmark::State& state, int threads) {
+  tbb::task_arena arena(threads);
+  std::vector<float> sink(std::size_t(threads) * Batch::size);
+  for (auto _ : state) {
+    state.SetIterationTime(on_threads(arena, threads, [&](int t) {
+      Batch acc[kChains];
+      for (int j = 0; j < kChains; ++j) acc[j] = Batch(1.0f + float(j) * 1e-3f);
+      const Batch m(0.999999f), add(1e-6f);
+      for (int r = 0; r < kRounds; ++r)
+        for (int j = 0; j < kChains; ++j) acc[j] = xsimd::fma(acc[j], m, add);
+      Batch total = acc[0];
+      for (int j = 1; j < kChains; ++j) total += acc[j];
+      total.store_unaligned(sink.data() + std::size_t(t) * Batch::size);
+    }));
+    benchmark::DoNotOptimize(sink.data());
+  }
+  const double flops = 2.0 * double(Batch::size) * kChains * kRounds * threads;
+  state.counters["flops_per_s"] = benchmark::Counter(flops, benchmark::Counter::kIsIterationInvariantRate);
+}
+
+void probe_sqrt_div(benchmark::State& state, int threads) {
+  tbb::task_arena arena(threads);
+  std::vector<float> sink(std::size_t(threads) * Batch::size);
+  for (auto _ : state) {
+    state.SetIterationTime(on_threads(arena, threads, [&](int t) {
+      Batch acc[kChains], x[kChains];
+      for (int j = 0; j < kChains; ++j) {
+        acc[j] = Batch(0.0f);
+        x[j] = Batch(2.0f + float(j));
+      }
+      const Batch one(1.0f);
+      for (int r = 0; r < kRounds / 4; ++r)
+        for (int j = 0; j < kChains; ++j) acc[j] += one / xsimd::sqrt(x[j] + acc[j] * Batch(1e-30f));
+      Batch total = acc[0];
+      for (int j = 1; j < kChains; ++j) total += acc[j];
+      total.store_unaligned(sink.data() + std::size_t(t) * Batch::size);
+    }));
+    benchmark::DoNotOptimize(sink.data());
+  }
+  const double pairs = double(Batch::size) * kChains * (kRounds / 4) * threads;
+  state.counters["pairs_per_s"] = benchmark::Counter(pairs, benchmark::Counter::kIsIterationInvariantRate);
+}
+
+}  // namespace
+
+void register_probe_benchmarks() {
+  for (int threads : {1, 2}) {
+    const std::string suffix = "/threads:" + std::to_string(threads);
+    benchmark::RegisterBenchmark(("probe/triad" + suffix).c_str(), probe_triad, threads)->UseManualTime()->Unit(benchmark::kMillisecond);
+    benchmark::RegisterBenchmark(("probe/fma" + suffix).c_str(), probe_fma, threads)->UseManualTime()->Unit(benchmark::kMicrosecond);
+    benchmark::RegisterBenchmark(("probe/sqrt_div" + suffix).c_str(), probe_sqrt_div, threads)->UseManualTime()->Unit(benchmark::kMicrosecond);
+  }
+}
+
+}  // namespace papertear::bench

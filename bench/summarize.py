@@ -1,0 +1,111 @@
+#!/usr/bin/env python3
+"""Turns papertear_bench's JSON (with repetitions) into the Markdown and JSON tables of
+bench/README.md: medians per case, then the ratios papertear vs reference, 2 threads vs 1,
+fracture pass vs step, and measured vs the machine floor from the probe cases.
+
+The floor of one RK4 step is the larger of
+  compute: cells * 28 springs * 4 stages / (sqrt+div pairs per second), and
+  memory:  cells * bytes_per_cell * 4 stages / (triad bytes per second),
+each at the same thread count (springs need one square root and one division each; every
+stage streams the solver state at least once).
+
+usage: summarize.py latest.json out.md out-summary.json
+"""
+import json
+import re
+import sys
+
+NAME = re.compile(r"^(?P<family>[a-z_]+)/(?P<impl>[a-z_]+)(?:/(?P<size>\d+x\d+x\d+))?/threads:(?P<t>\d+)")
+
+
+def load_medians(path):
+    with open(path) as f:
+        data = json.load(f)
+    cases = {}
+    for b in data["benchmarks"]:
+        if b.get("aggregate_name", "median") != "median" or b.get("error_occurred"):
+            continue
+        name = b["run_name"].replace("/manual_time", "")
+        scale = {"ns": 1e-9, "us": 1e-6, "ms": 1e-3, "s": 1.0}[b["time_unit"]]
+        counters = {k: v for k, v in b.items() if isinstance(v, (int, float)) and k not in (
+            "real_time", "cpu_time", "iterations", "repetitions", "repetition_index", "threads",
+            "family_index", "per_family_instance_index")}
+        cases[name] = {"seconds": b["real_time"] * scale, "counters": counters, "label": b.get("label", "")}
+    return data.get("context", {}), cases
+
+
+def cells_of(size):
+    nx, ny, nl = (int(v) for v in size.split("x"))
+    return nx * ny * nl
+
+
+def ratios(cases):
+    out = []
+    def get(name):
+        return cases.get(name, {}).get("seconds")
+    sizes = sorted({m.group("size") for n in cases if (m := NAME.match(n)) and m.group("size")}, key=cells_of)
+    for size in sizes:
+        ref = get(f"step/reference/{size}/threads:1")
+        for t in (1, 2):
+            pt = get(f"step/papertear/{size}/threads:{t}")
+            if ref and pt:
+                out.append((f"step {size}: reference (1 thread) / papertear ({t} threads)", ref / pt, "speed-up"))
+        for family, impl in (("step", "papertear"), ("force", "papertear"), ("fracture", "quiet")):
+            one, two = get(f"{family}/{impl}/{size}/threads:1"), get(f"{family}/{impl}/{size}/threads:2")
+            if one and two:
+                out.append((f"{family}/{impl} {size}: 1 thread / 2 threads", one / two, "thread scaling"))
+        for t in (1, 2):
+            frac, step = get(f"fracture/quiet/{size}/threads:{t}"), get(f"step/papertear/{size}/threads:{t}")
+            if frac and step:
+                out.append((f"fracture pass / step {size}, {t} threads", frac / step, "share"))
+            pairs = cases.get(f"probe/sqrt_div/threads:{t}", {}).get("counters", {}).get("pairs_per_s")
+            bw = cases.get(f"probe/triad/threads:{t}", {}).get("counters", {}).get("bytes_per_s")
+            step_case = cases.get(f"step/papertear/{size}/threads:{t}")
+            if pairs and bw and step_case:
+                cells = cells_of(size)
+                compute = cells * 28 * 4 / pairs
+                memory = cells * step_case["counters"].get("bytes_per_cell", 0) * 4 / bw
+                floor = max(compute, memory)
+                out.append((f"step {size}, {t} threads: measured / floor ({floor * 1e3:.3f} ms, "
+                            f"{'compute' if compute >= memory else 'memory'} bound)", step_case["seconds"] / floor, "vs floor"))
+    return out
+
+
+def fmt_time(s):
+    return f"{s * 1e3:.3f} ms" if s >= 1e-3 else f"{s * 1e6:.1f} µs"
+
+
+def fmt_counter(k, v):
+    if k.endswith("_per_s"):
+        for unit, scale in (("G", 1e9), ("M", 1e6), ("k", 1e3)):
+            if v >= scale:
+                return f"{k}={v / scale:.3g}{unit}/s"
+    return f"{k}={v:.4g}"
+
+
+def main(src, md_path, json_path):
+    context, cases = load_medians(src)
+    rows = ratios(cases)
+    lines = ["# papertear benchmark results", "",
+             f"Host `{context.get('host_name', '?')}`, {context.get('num_cpus', '?')} CPUs at "
+             f"{context.get('mhz_per_cpu', '?')} MHz, load average {context.get('load_avg', '?')}, "
+             f"{context.get('date', '?')}. Medians of the repetitions (wall time).", "",
+             "| case | median | counters |", "| --- | --- | --- |"]
+    for name, c in cases.items():
+        counters = ", ".join(fmt_counter(k, v) for k, v in sorted(c["counters"].items()))
+        label = f" `{c['label']}`" if c["label"] else ""
+        lines.append(f"| `{name}` | {fmt_time(c['seconds'])} | {counters}{label} |")
+    lines += ["", "| ratio | value |", "| --- | --- |"]
+    lines += [f"| {what} | {value:.2f}{'×' if kind != 'share' else ''} |" if kind != "share"
+              else f"| {what} | {value * 100:.1f} % |" for what, value, kind in rows]
+    with open(md_path, "w") as f:
+        f.write("\n".join(lines) + "\n")
+    with open(json_path, "w") as f:
+        json.dump({"context": context, "medians": cases,
+                   "ratios": [{"what": w, "value": v, "kind": k} for w, v, k in rows]}, f, indent=1)
+
+
+if __name__ == "__main__":
+    if len(sys.argv) != 4:
+        sys.exit(__doc__)
+    main(*sys.argv[1:])
