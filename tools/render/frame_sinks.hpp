@@ -27,7 +27,7 @@ struct OutputSettings {
   std::string prefix = "frame";
   bool glb = true;                // a .glb per frame by default: meshes other tools open
   bool obj = false;
-  bool mesh_every_frame = true;   // false: the last frame only
+  bool mesh_every_frame = false;  // true: every frame (torn frames are tens of MB each)
   bool video = true;              // frames into video.mp4 when ffmpeg is on the PATH
   int video_fps = 15;
 };
