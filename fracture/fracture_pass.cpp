@@ -24,7 +24,6 @@
 namespace papertear {
 namespace {
 
-constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
 
 float edge_strain(const World& w, std::uint32_t cell, int slot) {
   const SpringSlot& s = kSpringSlots[std::size_t(slot)];
@@ -197,19 +196,20 @@ bool break_spring(World& w, std::uint32_t cell, int slot) {
   else if (eligible[0]) side = 0;
   else if (eligible[1]) side = 1;
   else return false;
-  const std::uint32_t fresh = split_node(w, end_node[side], axis, side);
-  if (fresh == kNone) return false;
-  w.events.push_back({w.step + 1, end_node[side], fresh, std::uint8_t(axis), axis == 2, cell, std::uint8_t(slot)});
+  const NodeId fresh = split_node(w, NodeId(end_node[side]), axis, side);
+  if (!fresh.valid()) return false;
+  w.events.push_back({w.step + 1, end_node[side], fresh.value, std::uint8_t(axis), axis == 2, cell, std::uint8_t(slot)});
   return true;
 }
 
 }  // namespace
 
-std::uint32_t split_node(World& w, std::uint32_t node, int axis, int side) {
+NodeId split_node(World& w, NodeId split, int axis, int side) {
+  const std::uint32_t node = split.value;
   const NodeCells cells = cells_of_node(w, node);
   int moving = 0;
   for (const CellCorner& cc : cells) moving += corner_bit(cc.corner, axis) == side;
-  if (moving == 0 || moving == cells.count) return kNone;
+  if (moving == 0 || moving == cells.count) return NodeId{};
   const auto fresh = std::uint32_t(w.nodes.count);
   w.nodes.resize(w.nodes.count + 1);
   w.scratch.resize(w.nodes.count);
@@ -225,7 +225,7 @@ std::uint32_t split_node(World& w, std::uint32_t node, int axis, int side) {
       if (corner_bit(a.corner, axis) == side && corner_bit(b.corner, axis) != side &&
           w.topo.cell_block[a.cell] == w.topo.cell_block[b.cell])
         enter_block(w, w.topo.cell_block[a.cell]);
-  return fresh;
+  return NodeId(fresh);
 }
 
 std::size_t fracture_pass(World& w, FractureScratch& scratch) {

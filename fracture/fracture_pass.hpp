@@ -17,6 +17,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/ids.hpp"
 #include "core/world.hpp"
 
 namespace papertear {
@@ -36,8 +37,8 @@ std::size_t fracture_pass(World& world, FractureScratch& scratch);
 
 // Splits `node` by the plane through it normal to `axis`: the cells using it on the side
 // given by `side` (1: cells for which the node is on their high face along axis, i.e. cells
-// below the plane; 0: cells above) get a new node. Returns the new node id, or UINT32_MAX if
+// below the plane; 0: cells above) get a new node. Returns the new node, or an invalid id if
 // either side has no cell (nothing to split). Updates masses, grips, blocks and scratch sizes.
-std::uint32_t split_node(World& world, std::uint32_t node, int axis, int side);
+NodeId split_node(World& world, NodeId node, int axis, int side);
 
 }  // namespace papertear

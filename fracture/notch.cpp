@@ -20,7 +20,7 @@ void cut_notch(World& w) {
       v[across] = depth;
       const std::uint32_t vertex = d.vertex_index(v[0], v[1], v[2]);
       // Before any split the node at a vertex has the vertex's id (core/lattice_builder.cpp).
-      split_node(w, vertex, axis, 1);
+      split_node(w, NodeId(vertex), axis, 1);
     }
 }
 

@@ -77,8 +77,9 @@ TEST_CASE("a split conserves mass and momentum and keeps every node in use", "[f
   const std::uint32_t centre = w.topo.dims.vertex_index(4, 3, 1);  // interior: 8 cells
   for (int axis = 0; axis < 3; ++axis) {
     const std::uint32_t node = axis == 0 ? centre : std::uint32_t(w.nodes.count - 1);
-    const std::uint32_t fresh = split_node(w, node, axis, 1);
-    REQUIRE(fresh != UINT32_MAX);
+    const NodeId fresh = split_node(w, NodeId(node), axis, 1);
+    REQUIRE(fresh.valid());
+    CHECK(fresh.value == w.nodes.count - 1);
     CHECK(check_invariants(w).empty());
   }
   const Totals after = totals(w);
@@ -86,7 +87,7 @@ TEST_CASE("a split conserves mass and momentum and keeps every node in use", "[f
   for (int a = 0; a < 3; ++a) CHECK(after.momentum[a] == Approx(before.momentum[a]).margin(1e-6));
   // Splitting a node that has cells on one side only is refused.
   const std::uint32_t corner = w.topo.dims.vertex_index(0, 0, 0);
-  CHECK(split_node(w, corner, 0, 1) == UINT32_MAX);
+  CHECK_FALSE(split_node(w, NodeId(corner), 0, 1).valid());
 }
 
 TEST_CASE("the invariants hold after every fracture pass of a tearing run", "[fracture]") {
