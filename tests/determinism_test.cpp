@@ -5,22 +5,14 @@
 #include <ios>
 
 #include "core/simulation.hpp"
+#include "tests/standard_scenes.hpp"
 
 using namespace papertear;
 
 namespace {
 
 // A pulled sheet that tears during the run, so fracture's serial pass is exercised too.
-Scene tearing_scene() {
-  Scene s;
-  s.sheet.cells = {24, 16, 3};
-  s.load.grip_cells = 2;
-  s.load.grip_margin = 2;
-  s.load.notch = 3;
-  s.load.speed = 0.15;
-  s.load.ramp_time = 5.0;
-  return s;
-}
+Scene tearing_scene() { return standard::small("copy"); }
 
 std::uint64_t digest_after(const Scene& s, int threads, int steps) {
   Simulation sim(s, {.threads = threads});

@@ -11,21 +11,18 @@
 #include "fracture/blocks.hpp"
 #include "fracture/fracture_pass.hpp"
 #include "fracture/metrics.hpp"
+#include "tests/standard_scenes.hpp"
 
 using namespace papertear;
 
 namespace {
 
-// A small sheet pulled apart fast enough to tear within a few thousand steps.
+// A small sheet pulled apart fast enough to tear within a few thousand steps: the standard
+// small scene's grips, tabs and notch, at a size and speed of the test's choosing.
 Scene small_tear(const char* preset, int nx = 30, int ny = 20, int nl = 3) {
-  Scene s;
-  apply_material_preset(s.material, preset);
+  Scene s = standard::small(preset);
   s.sheet.cells = {nx, ny, nl};
-  s.load.grip_cells = 2;
-  s.load.grip_margin = 2;
-  s.load.notch = 3;
   s.load.speed = 0.1;
-  s.load.ramp_time = 5.0;
   return s;
 }
 
