@@ -1,9 +1,5 @@
 #include "core/checkpoint.hpp"
 
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
-
 #include <bit>
 #include <cerrno>
 #include <cmath>
@@ -13,6 +9,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "core/atomic_file.hpp"
 #include "core/invariants.hpp"
 #include "core/lattice_builder.hpp"
 
@@ -588,43 +585,6 @@ void check_header(std::string_view bytes, std::string_view& payload) {
   throw CheckpointError(Kind::Io, path + ": " + what + " (" + std::strerror(errno) + ")");
 }
 
-// Unlinks the temporary file unless the rename went through.
-struct TempFile {
-  std::string path;
-  int fd = -1;
-  bool keep = false;
-  ~TempFile() {
-    if (fd >= 0) ::close(fd);
-    if (!keep && !path.empty()) ::unlink(path.c_str());
-  }
-};
-
-void write_file_atomically(const std::string& path, std::string_view bytes) {
-  const std::size_t slash = path.find_last_of('/');
-  const std::string dir = slash == std::string::npos ? "." : path.substr(0, slash + 1);
-  const std::string base = slash == std::string::npos ? path : path.substr(slash + 1);
-  std::string pattern = (slash == std::string::npos ? "" : dir) + "." + base + ".tmp-XXXXXX";
-  std::vector<char> name(pattern.begin(), pattern.end());
-  name.push_back('\0');
-  TempFile tmp;
-  tmp.fd = ::mkstemp(name.data());
-  if (tmp.fd < 0) io_error(path, "cannot create a temporary file for the checkpoint");
-  tmp.path = name.data();
-  while (!bytes.empty()) {
-    const ssize_t n = ::write(tmp.fd, bytes.data(), bytes.size());
-    if (n < 0 && errno == EINTR) continue;  // a signal (Ctrl-C) during the write: go on
-    if (n < 0) io_error(path, "cannot write the checkpoint");
-    bytes.remove_prefix(std::size_t(n));
-  }
-  (void)::fchmod(tmp.fd, 0644);
-  if (::fsync(tmp.fd) != 0) io_error(path, "cannot flush the checkpoint");
-  const int fd = tmp.fd;
-  tmp.fd = -1;
-  if (::close(fd) != 0) io_error(path, "cannot close the checkpoint");
-  if (::rename(tmp.path.c_str(), path.c_str()) != 0) io_error(path, "cannot rename the checkpoint into place");
-  tmp.keep = true;
-}
-
 std::string read_file(const std::string& path) {
   std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
   if (!f) io_error(path, "cannot open the checkpoint");
@@ -687,7 +647,11 @@ CheckpointContents deserialize_checkpoint(std::string_view bytes) { return parse
 World deserialize_world(std::string_view bytes) { return std::move(deserialize_checkpoint(bytes).world); }
 
 void save_checkpoint(const World& world, const std::string& path, std::string_view user_data) {
-  write_file_atomically(path, serialize_world(world, user_data));
+  try {
+    write_file_atomically(path, serialize_world(world, user_data));
+  } catch (const FileWriteError& e) {
+    throw CheckpointError(Kind::Io, std::string("cannot save the checkpoint: ") + e.what());
+  }
 }
 
 CheckpointContents read_checkpoint(const std::string& path) { return parse_checkpoint(read_file(path), path); }
