@@ -15,17 +15,13 @@
 #include <string>
 
 #include "core/atomic_file.hpp"
+#include "tests/test_files.hpp"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using papertear::testing::read_text;
 
 // Runs `body` in a child whose files may not grow beyond `limit` bytes; returns its exit code.
 template <class Body>
@@ -45,9 +41,7 @@ int in_child_with_file_limit(rlim_t limit, const Body& body) {
 }  // namespace
 
 TEST_CASE("a write that fills the disk fails cleanly and keeps the earlier file", "[output]") {
-  const fs::path dir = fs::path(PAPERTEAR_BINARY_DIR) / "test-output" / "full-disk";
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const fs::path dir = papertear::testing::fresh_test_dir("output", "full-disk");
   const fs::path file = dir / "summary.json";
   papertear::write_file_atomically(file, "the earlier, complete file\n");
 
@@ -68,9 +62,7 @@ TEST_CASE("a write that fills the disk fails cleanly and keeps the earlier file"
 }
 
 TEST_CASE("an atomic write replaces the file whole", "[output]") {
-  const fs::path dir = fs::path(PAPERTEAR_BINARY_DIR) / "test-output" / "atomic";
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const fs::path dir = papertear::testing::fresh_test_dir("output", "atomic");
   papertear::write_file_atomically(dir / "a.txt", "first");
   papertear::write_file_atomically(dir / "a.txt", "second, longer");
   CHECK(read_text(dir / "a.txt") == "second, longer");

@@ -28,6 +28,7 @@
 #include "tools/run_checkpoints.hpp"
 #include "tools/run_frames.hpp"
 #include "tools/summary.hpp"
+#include "tests/test_files.hpp"
 
 extern char** environ;
 
@@ -39,19 +40,9 @@ using Kind = pt::CheckpointError::Kind;
 
 namespace {
 
-fs::path test_dir(const std::string& name) {
-  fs::path dir = fs::path(PAPERTEAR_BINARY_DIR) / "test-output" / "checkpoint" / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+fs::path test_dir(const std::string& name) { return pt::testing::fresh_test_dir("checkpoint", name); }
 
-std::string read_text(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream out;
-  out << in.rdbuf();
-  return out.str();
-}
+using pt::testing::read_text;
 
 // A small sheet that tears within a few hundred steps (splits start before step 300).
 pt::Scene tearing_scene() {

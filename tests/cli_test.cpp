@@ -19,6 +19,7 @@
 #include "tools/run_frames.hpp"
 #include "tools/scene_file.hpp"
 #include "tools/summary.hpp"
+#include "tests/test_files.hpp"
 
 namespace pt = papertear;
 namespace io = papertear::io;
@@ -27,20 +28,9 @@ using Catch::Matchers::Contains;
 
 namespace {
 
-// A fresh, empty directory under the build tree for one test.
-fs::path test_dir(const std::string& name) {
-  fs::path dir = fs::path(PAPERTEAR_BINARY_DIR) / "test-output" / "cli" / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+fs::path test_dir(const std::string& name) { return pt::testing::fresh_test_dir("cli", name); }
 
-std::string read_text(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream out;
-  out << in.rdbuf();
-  return out.str();
-}
+using pt::testing::read_text;
 
 std::vector<std::string> lines_of(const std::string& text) {
   std::vector<std::string> lines;
