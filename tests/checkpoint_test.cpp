@@ -28,6 +28,7 @@
 #include "tools/run_checkpoints.hpp"
 #include "tools/run_frames.hpp"
 #include "tools/summary.hpp"
+#include "tests/cli_runner.hpp"
 #include "tests/test_files.hpp"
 
 extern char** environ;
@@ -494,28 +495,9 @@ TEST_CASE("the fuzz seed corpus is of this format and each seed does what its na
 
 namespace {
 
-struct CliResult {
-  int code = -1;
-  std::string out, err;
-  std::string last_line() const {
-    std::istringstream in(out);
-    std::string line, last;
-    while (std::getline(in, line)) last = line;
-    return last;
-  }
-};
+using pt::testing::CliResult;
+CliResult run_cli(const std::string& args, const fs::path& dir) { return pt::testing::run_cli(PAPERTEAR_CLI, args, dir); }
 
-CliResult run_cli(const std::string& args, const fs::path& dir) {
-  const fs::path out = dir / "stdout.txt", err = dir / "stderr.txt";
-  const std::string command = std::string("'") + PAPERTEAR_CLI + "' " + args + " >'" + out.string() + "' 2>'" +
-                              err.string() + "' </dev/null";
-  const int status = std::system(command.c_str());
-  CliResult r;
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  r.out = read_text(out);
-  r.err = read_text(err);
-  return r;
-}
 
 std::string quoted(const fs::path& p) { return "'" + p.string() + "'"; }
 

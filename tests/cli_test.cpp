@@ -19,6 +19,7 @@
 #include "tools/run_frames.hpp"
 #include "tools/scene_file.hpp"
 #include "tools/summary.hpp"
+#include "tests/cli_runner.hpp"
 #include "tests/test_files.hpp"
 
 namespace pt = papertear;
@@ -189,28 +190,9 @@ TEST_CASE("docs/summary-schema.md documents every key of summary.json", "[cli]")
 
 namespace {
 
-struct CliResult {
-  int code = -1;
-  std::string out, err;
-  std::string last_line() const {
-    auto lines = lines_of(out);
-    return lines.empty() ? "" : lines.back();
-  }
-};
+using pt::testing::CliResult;
+CliResult run_cli(const std::string& args, const fs::path& dir) { return pt::testing::run_cli(PAPERTEAR_CLI, args, dir); }
 
-// Runs `papertear <args>` in a shell (arguments are quoted by the caller), capturing both
-// streams into files in `dir`.
-CliResult run_cli(const std::string& args, const fs::path& dir) {
-  const fs::path out = dir / "stdout.txt", err = dir / "stderr.txt";
-  std::string command = std::string("'") + PAPERTEAR_CLI + "' " + args + " >'" + out.string() +
-                        "' 2>'" + err.string() + "' </dev/null";
-  int status = std::system(command.c_str());
-  CliResult r;
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  r.out = read_text(out);
-  r.err = read_text(err);
-  return r;
-}
 
 constexpr const char* kTiny =
     "--set 'sheet.cells=[6,6,2]' --set load.notch=0 --set load.grip_margin=0 --steps 20 --frames 2";

@@ -15,6 +15,7 @@
 #include "core/lattice_builder.hpp"
 #include "core/simulation.hpp"
 #include "kernels/reference.hpp"
+#include "tests/spring_bounds.hpp"
 
 namespace pt = papertear;
 
@@ -211,20 +212,6 @@ RoundingScales rounding_scales(const pt::ReferenceModel& ref, double dt) {
   return r;
 }
 
-// max over nodes of Σ_s k_s L0_s / m: a node's acceleration per unit of relative error in
-// its spring forces.
-double max_spring_scale(const pt::World& w) {
-  const pt::ReferenceModel ref(w);
-  std::vector<double> kl(ref.nodes().size(), 0.0);
-  for (const auto& sp : ref.springs()) {
-    kl[sp.a] += sp.k * sp.rest;
-    kl[sp.b] += sp.k * sp.rest;
-  }
-  double worst = 0.0;
-  for (std::size_t i = 0; i < kl.size(); ++i) worst = std::max(worst, kl[i] / ref.nodes()[i].mass);
-  return worst;
-}
-
 // All numbers in a message (for checking that an error message quotes a value).
 std::vector<double> numbers_in(const std::string& text) {
   static const std::regex number(R"([-+]?[0-9]*\.?[0-9]+(?:[eE][-+]?[0-9]+)?)");
@@ -328,7 +315,7 @@ TEST_CASE("a mirror-symmetric pull stays mirror-symmetric", "[physics]") {
   pt::World w;
   pt::build_lattice(s, w);
   w.dt = 0.0;  // the Simulation picks the default: the stable limit times run.dt_safety
-  const double accel_scale = max_spring_scale(w);
+  const double accel_scale = pt::testing::max_spring_scale(pt::ReferenceModel(w));
   const int steps = 300;
   pt::Simulation sim(std::move(w), {.threads = 2});
   sim.step(steps);

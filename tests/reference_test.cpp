@@ -17,6 +17,7 @@
 #include "kernels/cell_forces.hpp"
 #include "kernels/coarse_forces.hpp"
 #include "kernels/reference.hpp"
+#include "tests/spring_bounds.hpp"
 
 namespace pt = papertear;
 
@@ -92,19 +93,6 @@ pt::World perturbed_world(const pt::Scene& scene, std::uint32_t seed, float dp, 
   return w;
 }
 
-// max over nodes of Σ_s k_s L0_s / m: the scale of a node's acceleration per unit of relative
-// error in its spring forces.
-double force_scale(const pt::ReferenceModel& ref) {
-  std::vector<double> kl(ref.nodes().size(), 0.0);
-  for (const auto& s : ref.springs()) {
-    kl[s.a] += s.k * s.rest;
-    kl[s.b] += s.k * s.rest;
-  }
-  double worst = 0.0;
-  for (std::size_t i = 0; i < kl.size(); ++i) worst = std::max(worst, kl[i] / ref.nodes()[i].mass);
-  return worst;
-}
-
 // Runs the solver and the reference side by side and checks they agree.
 //
 // Tolerance: the reference is the same equations in double, so the difference is the
@@ -127,7 +115,7 @@ void run_side_by_side(pt::World world, int steps) {
   pt::ReferenceModel ref(world);
   const std::size_t events = world.events.size();
   pt::Simulation sim(std::move(world), {.threads = 2});
-  const double accel_scale = sim.dt() * force_scale(ref);
+  const double accel_scale = sim.dt() * pt::testing::max_spring_scale(ref);
   // Compared after every step, so that a difference in the fast early transient is seen
   // even after the damping has smoothed it out.
   double extent = 0.0, speed = 0.0, worst = 0.0;
