@@ -104,37 +104,54 @@ double peeled_area(const World& w) {
   return area;
 }
 
-// The pull the sheet exerts on the +axis grip, along the pull axis (positive: tension, i.e.
-// the sheet pulls the grip back towards -axis; the force on the grip nodes is then negative).
-double grip_force(const World& w) {
-  if (w.grips.size() < 2) return 0.0;
-  const int axis = w.scene.load.axis == 'y' ? 1 : 0;
+// Calls fn(node, f) for every spring (fine and coarse) with exactly one end held by a grip:
+// `node` is that end and f the spring's force on it. Springs inside a grip cancel.
+template <class Fn>
+void for_each_grip_spring(const World& w, Fn&& fn) {
   const NodeStore& n = w.nodes;
-  double total = 0.0;
-  auto add = [&](std::uint32_t a, std::uint32_t b, float rest, float k, float c) {
-    const bool ga = n.grip[a] == 2, gb = n.grip[b] == 2;
-    if (ga == gb) return;  // both in the grip (internal, cancels) or neither
+  auto visit = [&](std::uint32_t a, std::uint32_t b, float rest, float k, float c) {
+    if ((n.grip[a] != 0) == (n.grip[b] != 0)) return;
     const SpringEval e = eval_spring(n.px[a], n.py[a], n.pz[a], n.px[b], n.py[b], n.pz[b], n.vx[a], n.vy[a], n.vz[a],
                                      n.vx[b], n.vy[b], n.vz[b], rest, k, c);
-    const float f[3] = {e.fx, e.fy, e.fz};  // on a
-    total += ga ? -f[axis] : f[axis];
+    if (n.grip[a] != 0) fn(a, std::array<double, 3>{e.fx, e.fy, e.fz});
+    else fn(b, std::array<double, 3>{-double(e.fx), -double(e.fy), -double(e.fz)});
   };
   for (std::uint32_t c = 0; c < std::uint32_t(w.topo.dims.cells()); ++c) {
     const float s = w.topo.cell_scale[c];
     for (int i = 0; i < kSpringsPerCell; ++i) {
       const SpringSlot& slot = kSpringSlots[std::size_t(i)];
-      add(w.topo.node(c, slot.a), w.topo.node(c, slot.b), w.springs.rest[std::size_t(i)],
-          s * w.springs.stiffness[std::size_t(i)], s * w.springs.damping[std::size_t(i)]);
+      visit(w.topo.node(c, slot.a), w.topo.node(c, slot.b), w.springs.rest[std::size_t(i)],
+            s * w.springs.stiffness[std::size_t(i)], s * w.springs.damping[std::size_t(i)]);
     }
   }
   const CoarseSprings& cs = w.coarse;
   for (std::size_t i = 0; i < cs.size(); ++i)
-    add(w.topo.node(cs.cell_a[i], cs.corner_a[i]), w.topo.node(cs.cell_b[i], cs.corner_b[i]), cs.rest[i],
-        cs.stiffness[i], cs.damping[i]);
-  return total;
+    visit(w.topo.node(cs.cell_a[i], cs.corner_a[i]), w.topo.node(cs.cell_b[i], cs.corner_b[i]), cs.rest[i],
+          cs.stiffness[i], cs.damping[i]);
 }
 
 }  // namespace
+
+// The pull the sheet exerts on the +axis grip (grip 2), along the pull axis (positive:
+// tension, i.e. the sheet pulls the grip back towards -axis).
+double grip_force(const World& w) {
+  if (w.grips.size() < 2) return 0.0;
+  const int axis = w.scene.load.axis == 'y' ? 1 : 0;
+  double total = 0.0;
+  for_each_grip_spring(w, [&](std::uint32_t node, const std::array<double, 3>& f) {
+    if (w.nodes.grip[node] == 2) total -= f[std::size_t(axis)];
+  });
+  return total;
+}
+
+// The grips push against the springs' pull: their power is -f·v at every held end.
+double grip_power(const World& w) {
+  double total = 0.0;
+  for_each_grip_spring(w, [&](std::uint32_t node, const std::array<double, 3>& f) {
+    total -= f[0] * w.nodes.vx[node] + f[1] * w.nodes.vy[node] + f[2] * w.nodes.vz[node];
+  });
+  return total;
+}
 
 Metrics measure(const World& w) {
   Metrics m;

@@ -25,4 +25,11 @@ struct Metrics {
 // Measures a world. Deterministic (serial or fixed-order reductions).
 Metrics measure(const World& world);
 
+// The pull the sheet exerts on the +axis grip along the pull axis (Metrics::grip_force).
+double grip_force(const World& world);
+// The rate at which the grips do work on the sheet: the sum over springs with one end held of
+// -f·v at that end. Integrated over a run it is the work spent deforming and tearing it
+// (the quantity an Elmendorf tester measures).
+double grip_power(const World& world);
+
 }  // namespace papertear

@@ -86,6 +86,22 @@ int main(int argc, char** argv) {
       "info", "Sizes, memory, time step and estimated run time of a scene, from a few timed steps");
   add_scene_options(*info_cmd, info);
 
+  CalibrateOptions calibrate;
+  CLI::App* calibrate_cmd = app.add_subcommand(
+      "calibrate", "Tensile and Elmendorf-style tear tests of the material presets along and across the "
+                   "grain; prints the MD/CD ratios beside the published ranges");
+  calibrate_cmd->add_option("--preset", calibrate.presets, "A preset to test (repeatable; default: all)");
+  calibrate_cmd->add_option("--seeds", calibrate.seeds, "Seeds per test (1..N)")
+      ->check(CLI::Range(1, 1000))
+      ->default_val(3);
+  calibrate_cmd->add_flag("--quick", calibrate.quick, "Small specimens: faster, noisier");
+  calibrate_cmd->add_option("--out", calibrate.out_dir, "Write calibration.md and calibration.json here")
+      ->type_name("DIR");
+  calibrate_cmd->add_option("--threads", calibrate.threads, "Worker threads (0: all hardware threads)")
+      ->check(CLI::Range(0, 4096))
+      ->default_val(0);
+  calibrate_cmd->add_flag("--quiet,-q", calibrate.quiet, "Print only errors and the table");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -95,5 +111,6 @@ int main(int argc, char** argv) {
   }
   if (run_cmd->parsed()) return run_command(run);
   if (resume_cmd->parsed()) return resume_command(resume);
+  if (calibrate_cmd->parsed()) return calibrate_command(calibrate);
   return info_command(info);
 }

@@ -52,7 +52,17 @@ struct ResumeOptions {
   CheckpointOptions checkpoints;
 };
 
+struct CalibrateOptions {
+  std::vector<std::string> presets;  // empty: every preset
+  int seeds = 3;                     // seeds 1..N per test
+  bool quick = false;                // small specimens (what the tests run)
+  std::string out_dir;               // empty: print the table only
+  int threads = 0;
+  bool quiet = false;
+};
+
 int run_command(const RunOptions& options);
+int calibrate_command(const CalibrateOptions& options);
 int resume_command(const ResumeOptions& options);
 int info_command(const SceneOptions& options);
 
