@@ -61,5 +61,6 @@ void register_step_benchmarks();
 void register_force_benchmarks();
 void register_fracture_benchmarks();
 void register_probe_benchmarks();
+void register_render_benchmarks();  // only when the renderer is built (PAPERTEAR_BENCH_RENDER)
 
 }  // namespace papertear::bench

@@ -11,6 +11,9 @@ int main(int argc, char** argv) {
   papertear::bench::register_force_benchmarks();
   papertear::bench::register_fracture_benchmarks();
   papertear::bench::register_probe_benchmarks();
+#ifdef PAPERTEAR_BENCH_RENDER
+  papertear::bench::register_render_benchmarks();
+#endif
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
   return 0;

@@ -1,0 +1,82 @@
+// Rendering: the display mesh (surface extraction with frayed fibres and peeled skins) and
+// one ray-traced 1280 × 720 frame at the default settings (4 samples per pixel, soft
+// shadows), of the paper's 90 × 90 × 5 sheet intact and torn in two:
+//   render/surface/<state>/90x90x5/threads:<t>   build_surface_mesh
+//   render/frame/<state>/90x90x5/threads:<t>     Renderer::draw (mesh + Embree scene + trace)
+// The torn sheet is the default scene pulled 4x faster so it comes apart in a few hundred
+// untimed setup steps; its mesh has the fibres and skins a torn frame of a real run has.
+#include <oneapi/tbb/task_arena.h>
+
+#include "bench_cases.hpp"
+#include "core/simulation.hpp"
+#include "fracture/metrics.hpp"
+#include "tools/render/render.hpp"
+
+namespace papertear::bench {
+namespace {
+
+enum class SheetState { intact, torn };
+
+const World& sheet(SheetState state) {
+  // Built once per state and kept: the torn one takes seconds to tear.
+  static std::unique_ptr<Simulation> intact, torn;
+  std::unique_ptr<Simulation>& sim = state == SheetState::intact ? intact : torn;
+  if (!sim) {
+    Scene scene;  // the paper's experiment
+    if (state == SheetState::torn) {
+      scene.load.speed *= 4.0;
+      sim = std::make_unique<Simulation>(scene);
+      for (int i = 0; i < 3000 && measure(sim->world()).pieces < 2; i += 50) sim->step(50);
+      sim->step(50);  // let the pieces move apart a little
+    } else {
+      sim = std::make_unique<Simulation>(scene);
+      sim->step(10);
+    }
+  }
+  return sim->world();
+}
+
+void render_surface(benchmark::State& state, SheetState s, int threads) {
+  const World& world = sheet(s);
+  tbb::task_arena arena(threads);
+  render::Renderer renderer(render::RenderSettings{});
+  std::size_t triangles = 0;
+  for (auto _ : state) {
+    const double t = timed([&] {
+      arena.execute([&] { triangles = render::build_surface_mesh(world, renderer.mesh_options()).triangle_count(); });
+    });
+    state.SetIterationTime(t);
+  }
+  state.counters["triangles"] = double(triangles);
+}
+
+void render_frame(benchmark::State& state, SheetState s, int threads) {
+  const World& world = sheet(s);
+  tbb::task_arena arena(threads);
+  render::Renderer renderer(render::RenderSettings{});
+  const render::Camera camera = renderer.camera_for(world);
+  for (auto _ : state) {
+    const double t = timed([&] { arena.execute([&] { benchmark::DoNotOptimize(renderer.draw(world, camera)); }); });
+    state.SetIterationTime(t);
+  }
+  state.counters["pixels_per_s"] = benchmark::Counter(1280.0 * 720.0, benchmark::Counter::kIsIterationInvariantRate);
+}
+
+}  // namespace
+
+void register_render_benchmarks() {
+  for (SheetState s : {SheetState::intact, SheetState::torn}) {
+    const std::string state = s == SheetState::intact ? "intact" : "torn";
+    for (int threads : {1, 2}) {
+      const std::string suffix = state + "/90x90x5/threads:" + std::to_string(threads);
+      benchmark::RegisterBenchmark(("render/surface/" + suffix).c_str(), render_surface, s, threads)
+          ->UseManualTime()
+          ->Unit(benchmark::kMillisecond);
+      benchmark::RegisterBenchmark(("render/frame/" + suffix).c_str(), render_frame, s, threads)
+          ->UseManualTime()
+          ->Unit(benchmark::kMillisecond);
+    }
+  }
+}
+
+}  // namespace papertear::bench
