@@ -5,6 +5,7 @@
 #include <numeric>
 #include <vector>
 
+#include "core/contact.hpp"
 #include "fracture/connectivity.hpp"
 #include "kernels/energy.hpp"
 #include "kernels/spring.hpp"
@@ -106,9 +107,13 @@ double peeled_area(const World& w) {
 
 // The pull the sheet exerts on the +axis grip, along the pull axis (positive: tension, i.e.
 // the sheet pulls the grip back towards -axis; the force on the grip nodes is then negative).
+// Tear: the same along z on the second grip, which moves down (positive: the sheet holds it
+// back, pulling it up).
 double grip_force(const World& w) {
   if (w.grips.size() < 2) return 0.0;
-  const int axis = w.scene.load.axis == 'y' ? 1 : 0;
+  const bool tear = w.scene.load.kind == "tear";
+  const int axis = tear ? 2 : (w.scene.load.axis == 'y' ? 1 : 0);
+  const double sign = tear ? -1.0 : 1.0;
   const NodeStore& n = w.nodes;
   double total = 0.0;
   auto add = [&](std::uint32_t a, std::uint32_t b, float rest, float k, float c) {
@@ -131,7 +136,7 @@ double grip_force(const World& w) {
   for (std::size_t i = 0; i < cs.size(); ++i)
     add(w.topo.node(cs.cell_a[i], cs.corner_a[i]), w.topo.node(cs.cell_b[i], cs.corner_b[i]), cs.rest[i],
         cs.stiffness[i], cs.damping[i]);
-  return total;
+  return sign * total;
 }
 
 }  // namespace
@@ -145,6 +150,7 @@ Metrics measure(const World& w) {
   measure_top_edges(w, label, two_largest(label, m.pieces), m);
   m.peeled_area = peeled_area(w);
   m.grip_force = grip_force(w);
+  m.indenter_force = indenter_force(w);
   m.kinetic_energy = kinetic_energy(0, w.nodes.count, w.nodes);
   m.elastic_energy = cell_elastic_energy(0, std::size_t(w.topo.dims.cells()), w) +
                      coarse_elastic_energy(0, w.coarse.size(), w);
