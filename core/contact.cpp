@@ -24,7 +24,8 @@ std::optional<Indenter> make_indenter(const World& w) {
     ind.sin_a = float(std::sin(a));
     ind.cos_a = float(std::cos(a));
   }
-  const double k = l.contact_stiffness * w.scene.material.k_edge;
+  const double cell_mass = w.scene.sheet.density * d.hx * d.hy * d.hz;
+  const double k = l.contact_stiffness * w.scene.material.k_edge / cell_mass;
   ind.stiffness = float(k);
   ind.damping = float(k * w.scene.material.damping);
   ind.speed = l.speed;
@@ -74,11 +75,11 @@ Contact contact_at(float qx, float qy, float qz, const Indenter& ind) {
 
 // The force on one node at (p, v): zero outside the body.
 std::array<float, 3> node_contact_force(const Indenter& ind, const IndenterPose& pose, float px, float py, float pz,
-                                        float vx, float vy, float vz) {
+                                        float vx, float vy, float vz, float mass) {
   const Contact c = contact_at(px - pose.cx, py - pose.cy, pz - pose.cz, ind);
   if (!(c.depth > 0.0f)) return {0.0f, 0.0f, 0.0f};
   const float vn = vx * c.nx + vy * c.ny + (vz - pose.vz) * c.nz;
-  const float f = ind.stiffness * c.depth - ind.damping * vn;
+  const float f = mass * (ind.stiffness * c.depth - ind.damping * vn);
   if (!(f > 0.0f)) return {0.0f, 0.0f, 0.0f};  // a penalty pushes, it never pulls
   return {f * c.nx, f * c.ny, f * c.nz};
 }
@@ -89,7 +90,7 @@ void add_contact_forces(std::size_t begin, std::size_t end, const Indenter& ind,
                         const ContactInputs& in, float* fx, float* fy, float* fz) {
   for (std::size_t i = begin; i < end; ++i) {
     const std::array<float, 3> f =
-        node_contact_force(ind, pose, in.sx[i], in.sy[i], in.sz[i], in.svx[i], in.svy[i], in.svz[i]);
+        node_contact_force(ind, pose, in.sx[i], in.sy[i], in.sz[i], in.svx[i], in.svy[i], in.svz[i], in.mass[i]);
     fx[i] += f[0];
     fy[i] += f[1];
     fz[i] += f[2];
@@ -99,7 +100,8 @@ void add_contact_forces(std::size_t begin, std::size_t end, const Indenter& ind,
 void apply_contact(World& w, const Indenter& ind, double t) {
   const IndenterPose pose = indenter_pose(ind, t);
   IntegratorScratch& s = w.scratch;
-  const ContactInputs in{s.sx.data(), s.sy.data(), s.sz.data(), s.svx.data(), s.svy.data(), s.svz.data()};
+  const ContactInputs in{s.sx.data(), s.sy.data(), s.sz.data(), s.svx.data(), s.svy.data(), s.svz.data(),
+                         w.nodes.mass.data()};
   parallel_chunks(w.nodes.count, kNodeChunk, [&](std::size_t b, std::size_t e, std::size_t) {
     add_contact_forces(b, e, ind, pose, in, s.fx.data(), s.fy.data(), s.fz.data());
   });
@@ -114,7 +116,7 @@ double indenter_force(const World& w) {
   for (std::size_t i = 0; i < n.count; ++i) {
     if (n.free_mask[i] == 0.0f) continue;  // clamped nodes: the clamp takes their push
     // The node is pushed down (−z); the indenter is pushed back up.
-    total -= node_contact_force(*ind, pose, n.px[i], n.py[i], n.pz[i], n.vx[i], n.vy[i], n.vz[i])[2];
+    total -= node_contact_force(*ind, pose, n.px[i], n.py[i], n.pz[i], n.vx[i], n.vy[i], n.vz[i], n.mass[i])[2];
   }
   return total;
 }

@@ -8,11 +8,14 @@
 // as it goes. The signed distance of a point is its distance to the sharp cone minus R, so
 // one formula serves both.
 //
-// Contact: a node inside the body feels f = max(0, k δ − c v_n) n along the outward normal n,
-// with δ the depth, v_n the normal speed relative to the indenter, k = contact_stiffness ·
-// k_edge and c = damping · k like every spring (so core/timestep.hpp's modes still hold; the
-// penalty adds k to a node's own diagonal block only). The force never pulls: the indenter
-// pushes, it does not stick.
+// Contact: a node of mass m inside the body feels f = m · max(0, k δ − c v_n) n along the
+// outward normal n, with δ the depth, v_n the normal speed relative to the indenter,
+// k = contact_stiffness · k_edge per cell mass and c = damping · k like every spring. The
+// penalty is per unit mass because a node stands for its share of material: a node of a
+// split, lighter, is pushed less, so the contact's frequency √k is the same on every node
+// whatever the tearing does, and core/timestep.hpp's bound on ω² simply grows by k (the
+// rigid indenter adds to a node's own diagonal block only). The force never pulls: the
+// indenter pushes, it does not stick.
 //
 // Motion: the tip starts just touching the top surface (z = layers · hz) and moves down at
 // load.speed, ramped up linearly over load.ramp_time like the grips; each RK4 stage sees the
@@ -33,7 +36,7 @@ struct Indenter {
   double tip_z0 = 0.0;      // the tip ball's centre at t = 0
   float radius = 1.0f;
   float sin_a = 0.0f, cos_a = 1.0f;  // the cone's half-angle (0: a ball on a rod)
-  float stiffness = 0.0f, damping = 0.0f;
+  float stiffness = 0.0f, damping = 0.0f;  // per unit mass of the node
   double speed = 0.0, ramp_time = 0.0;
 };
 
@@ -51,6 +54,7 @@ double indenter_travel(const Indenter& indenter, double t);
 
 struct ContactInputs {
   const float *sx, *sy, *sz, *svx, *svy, *svz;  // the stage state
+  const float* mass;
 };
 
 // Adds the contact force to nodes [begin, end) of fx, fy, fz.

@@ -27,13 +27,12 @@ double stiffness_bound(const World& w) {
     ksum[w.topo.node(w.coarse.cell_a[i], w.coarse.corner_a[i])] += w.coarse.stiffness[i];
     ksum[w.topo.node(w.coarse.cell_b[i], w.coarse.corner_b[i])] += w.coarse.stiffness[i];
   }
-  // An indenter's penalty (core/contact.hpp) adds its stiffness to a node's own diagonal
-  // block only: the indenter is rigid, so there is no off-diagonal block.
-  const std::optional<Indenter> indenter = make_indenter(w);
-  const double k_contact = indenter ? double(indenter->stiffness) : 0.0;
   double bound = 0.0;
   for (std::size_t n = 0; n < w.nodes.count; ++n)
-    if (w.nodes.mass[n] > 0.0f) bound = std::max(bound, (2.0 * ksum[n] + k_contact) / w.nodes.mass[n]);
+    if (w.nodes.mass[n] > 0.0f) bound = std::max(bound, 2.0 * ksum[n] / w.nodes.mass[n]);
+  // An indenter's penalty (core/contact.hpp) adds its stiffness per unit mass to every
+  // node's own diagonal block of M⁻¹K: the indenter is rigid, so no off-diagonal block.
+  if (const std::optional<Indenter> indenter = make_indenter(w)) bound += indenter->stiffness;
   return bound;
 }
 
