@@ -174,6 +174,9 @@ void write_scene(ByteWriter& w, const Scene& s) {
   w.value(l.ramp_time);
   w.value(std::int32_t(l.grip_margin));
   w.value(std::int32_t(l.notch));
+  w.text(l.indenter);
+  for (double v : {l.indenter_radius, l.indenter_angle, l.indenter_at[0], l.indenter_at[1], l.contact_stiffness})
+    w.value(v);
 
   for (double v : s.world.gravity) w.value(v);
   w.value(s.world.drag);
@@ -316,6 +319,9 @@ void read_scene(ByteReader& r, Scene& s) {
   l.ramp_time = r.value<double>("load.ramp_time");
   l.grip_margin = read_int(r, "load.grip_margin");
   l.notch = read_int(r, "load.notch");
+  l.indenter = r.text("load.indenter");
+  for (double* v : {&l.indenter_radius, &l.indenter_angle, &l.indenter_at[0], &l.indenter_at[1], &l.contact_stiffness})
+    *v = r.value<double>("an indenter value");
 
   r.fixed(s.world.gravity, "world.gravity");
   s.world.drag = r.value<double>("world.drag");

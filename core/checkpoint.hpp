@@ -47,7 +47,7 @@
 
 namespace papertear {
 
-inline constexpr std::uint32_t kCheckpointFormatVersion = 1;
+inline constexpr std::uint32_t kCheckpointFormatVersion = 2;  // 2: the indenter keys
 inline constexpr std::size_t kCheckpointHeaderSize = 32;
 inline constexpr std::string_view kCheckpointMagic{"\x89PTCK\r\n\x1a\n", 8};
 

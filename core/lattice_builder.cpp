@@ -30,6 +30,12 @@ SpringTable make_spring_table(const MaterialParams& m, const LatticeDims& d) {
   return t;
 }
 
+TearGrips tear_grips(const LoadParams& load, const LatticeDims& dims) {
+  const int n_axis = load.axis == 'y' ? dims.ny : dims.nx;
+  const int mid = n_axis / 2, g = load.grip_cells, gap = load.grip_margin;
+  return {{mid - gap - g, mid - gap}, {mid + gap, mid + gap + g}, g};
+}
+
 float grip_ramp(const LoadParams& load, double t) {
   if (load.ramp_time <= 0.0 || t >= load.ramp_time) return 1.0f;
   return float(std::max(0.0, t) / load.ramp_time);
@@ -74,29 +80,75 @@ void connect_cells(World& w) {
   t.face_strain.assign(std::size_t(d.cells()) * kFacesPerCell, INFINITY);
 }
 
-// Grips hold the first and last `grip_cells` columns of vertices along the load axis, over
-// the whole width and thickness, and move them apart along that axis.
-void attach_grips(World& w) {
-  const Scene& s = w.scene;
+// Puts every node whose lattice vertex `which_grip` assigns to grip g > 0 in that grip.
+template <class WhichGrip>
+void grip_nodes(World& w, const WhichGrip& which_grip) {
   const LatticeDims& d = w.topo.dims;
-  const int axis = s.load.axis == 'y' ? 1 : 0;
-  const int n_axis = axis == 0 ? d.nx : d.ny;
-  const int g = std::min(s.load.grip_cells, n_axis / 2);
-  w.grips.clear();
-  w.gripped_nodes.clear();
-  if (s.load.kind != "pull") return;  // "none": a free sheet
-  w.grips.assign(2, Grip{});
-  w.grips[0].velocity[std::size_t(axis)] = -float(s.load.speed);
-  w.grips[1].velocity[std::size_t(axis)] = float(s.load.speed);
   for (std::uint32_t n = 0; n < w.nodes.count; ++n) {
-    auto ijk = d.vertex_ijk(w.nodes.vertex[n]);
-    int a = ijk[std::size_t(axis)];
-    int which = a <= g ? 1 : (a >= n_axis - g ? 2 : 0);
+    const int which = which_grip(d.vertex_ijk(w.nodes.vertex[n]));
     if (which == 0) continue;
     w.nodes.grip[n] = std::uint8_t(which);
     w.nodes.free_mask[n] = 0.0f;
     w.gripped_nodes.push_back(n);
   }
+}
+
+// Pull: grips hold the first and last `grip_cells` columns of vertices along the load axis,
+// over the whole width and thickness, and move them apart along that axis.
+void attach_pull_grips(World& w) {
+  const LoadParams& l = w.scene.load;
+  const LatticeDims& d = w.topo.dims;
+  const int axis = l.axis == 'y' ? 1 : 0;
+  const int n_axis = axis == 0 ? d.nx : d.ny;
+  const int g = std::min(l.grip_cells, n_axis / 2);
+  w.grips.assign(2, Grip{});
+  w.grips[0].velocity[std::size_t(axis)] = -float(l.speed);
+  w.grips[1].velocity[std::size_t(axis)] = float(l.speed);
+  grip_nodes(w, [&](const std::array<int, 3>& v) {
+    const int a = v[std::size_t(axis)];
+    return a <= g ? 1 : (a >= n_axis - g ? 2 : 0);
+  });
+}
+
+// Pierce: a fixed clamp holds a ring `grip_cells` wide along the whole border, like a
+// burst tester's clamping rings; the indenter (core/contact.hpp) does the loading.
+void attach_pierce_clamp(World& w) {
+  const LatticeDims& d = w.topo.dims;
+  const int g = w.scene.load.grip_cells;
+  w.grips.assign(1, Grip{});
+  grip_nodes(w, [&](const std::array<int, 3>& v) {
+    const bool border = v[0] <= g || v[0] >= d.nx - g || v[1] <= g || v[1] >= d.ny - g;
+    return border ? 1 : 0;
+  });
+}
+
+void attach_tear_grips(World& w) {
+  const LoadParams& l = w.scene.load;
+  const LatticeDims& d = w.topo.dims;
+  const int axis = l.axis == 'y' ? 1 : 0;
+  const TearGrips t = tear_grips(l, d);
+  w.grips.assign(2, Grip{});
+  w.grips[0].velocity[std::size_t(axis)] = -float(kTearSpread * l.speed);
+  w.grips[0].velocity[2] = float(l.speed);
+  w.grips[1].velocity[std::size_t(axis)] = float(kTearSpread * l.speed);
+  w.grips[1].velocity[2] = -float(l.speed);
+  grip_nodes(w, [&](const std::array<int, 3>& v) {
+    const int a = v[std::size_t(axis)], b = v[std::size_t(1 - axis)];
+    if (b > t.depth) return 0;
+    if (a >= t.left[0] && a <= t.left[1]) return 1;
+    if (a >= t.right[0] && a <= t.right[1]) return 2;
+    return 0;
+  });
+}
+
+void attach_grips(World& w) {
+  w.grips.clear();
+  w.gripped_nodes.clear();
+  const std::string& kind = w.scene.load.kind;
+  if (kind == "pull") attach_pull_grips(w);
+  else if (kind == "pierce") attach_pierce_clamp(w);
+  else if (kind == "tear") attach_tear_grips(w);
+  // "none": a free sheet
 }
 
 }  // namespace

@@ -15,6 +15,19 @@ void recompute_masses(World& world);
 // Sizes the RK4 scratch to the nodes and sets the stage state to the state (p, v), as it is
 // between steps (kernels/rk4.hpp).
 void reset_stage_state(World& world);
+// Tear (load.kind = "tear"): two fingers pinch the sheet at its low edge (coordinate 0 of
+// the in-plane axis across load.axis), one each side of the tear line at the middle of
+// load.axis, and move apart out of plane (mode III): the first up, the second down, each at
+// load.speed, with an in-plane spread of kTearSpread · speed that opens the tear a little.
+// Each grip holds grip_cells × grip_cells cells through the thickness, grip_margin cells
+// from the tear line: the paper between the fingers is what tears.
+struct TearGrips {
+  std::array<int, 2> left, right;  // vertex ranges [first, last] along load.axis
+  int depth;                       // vertices 0..depth across it
+};
+TearGrips tear_grips(const LoadParams& load, const LatticeDims& dims);
+inline constexpr double kTearSpread = 0.25;
+
 // Grip velocity at time t: full speed after the ramp, linear before it.
 float grip_ramp(const LoadParams& load, double t);
 

@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <string>
@@ -107,14 +108,20 @@ void validate_material(const MaterialParams& m) {
   require(m.strength_jitter < 1.0, "material.strength_jitter", "must be below 1");
 }
 
-void validate_load(const LoadParams& l, const SheetParams& s) {
-  require(l.kind == "pull" || l.kind == "none", "load.kind", "must be \"pull\" or \"none\"");
-  require(l.axis == 'x' || l.axis == 'y', "load.axis", "must be \"x\" or \"y\"");
-  require(std::isfinite(l.speed), "load.speed", "must be a finite number");
-  non_negative(l.ramp_time, "load.ramp_time");
-  require(l.notch >= 0, "load.notch", "must not be negative");
-  require(l.grip_margin >= 0, "load.grip_margin", "must not be negative");
-  if (l.kind != "pull") return;
+// The indenter keys are checked whatever the load, so a typo never waits for a pierce run.
+void validate_indenter(const LoadParams& l) {
+  require(l.indenter == "sphere" || l.indenter == "cone", "load.indenter",
+          "must be \"sphere\" or \"cone\" (got \"" + l.indenter + "\")");
+  positive(l.indenter_radius, "load.indenter_radius");
+  require(std::isfinite(l.indenter_angle) && l.indenter_angle > 0.0 && l.indenter_angle < 90.0,
+          "load.indenter_angle", "must be between 0 and 90 degrees (got " + std::to_string(l.indenter_angle) + ")");
+  for (double f : l.indenter_at)
+    require(std::isfinite(f) && f >= 0.0 && f <= 1.0, "load.indenter_at",
+            "must be fractions of the sheet between 0 and 1 (got " + std::to_string(f) + ")");
+  positive(l.contact_stiffness, "load.contact_stiffness");
+}
+
+void validate_pull(const LoadParams& l, const SheetParams& s) {
   const int n = s.cells[l.axis == 'y' ? 1 : 0];
   require(l.grip_cells >= 1, "load.grip_cells", "must be at least 1");
   require(2 * l.grip_cells < n, "load.grip_cells",
@@ -123,6 +130,42 @@ void validate_load(const LoadParams& l, const SheetParams& s) {
   const int across = s.cells[l.axis == 'y' ? 0 : 1];
   require(l.notch < across, "load.notch",
           "a notch of " + std::to_string(l.notch) + " cells would cut the sheet (" + std::to_string(across) + " cells across)");
+}
+
+void validate_pierce(const LoadParams& l, const SheetParams& s) {
+  const int n = std::min(s.cells[0], s.cells[1]);
+  require(l.grip_cells >= 1, "load.grip_cells", "must be at least 1");
+  require(2 * l.grip_cells < n, "load.grip_cells",
+          "the clamp (" + std::to_string(l.grip_cells) + " cells wide) must leave free cells inside it on a sheet " +
+              std::to_string(n) + " cells across");
+}
+
+// The two fingers (core/lattice_builder.hpp, tear_grips) must fit on the sheet.
+void validate_tear(const LoadParams& l, const SheetParams& s) {
+  const int n = s.cells[l.axis == 'y' ? 1 : 0], across = s.cells[l.axis == 'y' ? 0 : 1];
+  require(l.grip_cells >= 1, "load.grip_cells", "must be at least 1");
+  require(l.grip_cells < across, "load.grip_cells",
+          "the grips (" + std::to_string(l.grip_cells) + " cells deep) must leave free cells on a sheet " +
+              std::to_string(across) + " cells across");
+  require(n / 2 - l.grip_margin - l.grip_cells >= 0, "load.grip_margin",
+          "two grips of " + std::to_string(l.grip_cells) + " cells, " + std::to_string(l.grip_margin) +
+              " cells each side of the middle, do not fit on a sheet " + std::to_string(n) + " cells long");
+  require(l.notch < across, "load.notch",
+          "a notch of " + std::to_string(l.notch) + " cells would cut the sheet (" + std::to_string(across) + " cells across)");
+}
+
+void validate_load(const LoadParams& l, const SheetParams& s) {
+  require(l.kind == "pull" || l.kind == "none" || l.kind == "pierce" || l.kind == "tear", "load.kind",
+          "must be \"pull\", \"pierce\", \"tear\" or \"none\"");
+  require(l.axis == 'x' || l.axis == 'y', "load.axis", "must be \"x\" or \"y\"");
+  require(std::isfinite(l.speed), "load.speed", "must be a finite number");
+  non_negative(l.ramp_time, "load.ramp_time");
+  require(l.notch >= 0, "load.notch", "must not be negative");
+  require(l.grip_margin >= 0, "load.grip_margin", "must not be negative");
+  validate_indenter(l);
+  if (l.kind == "pull") validate_pull(l, s);
+  if (l.kind == "pierce") validate_pierce(l, s);
+  if (l.kind == "tear") validate_tear(l, s);
 }
 
 }  // namespace

@@ -49,8 +49,10 @@ struct MaterialParams {
 };
 
 struct LoadParams {
-  std::string kind = "pull";  // pull: grips at both ends of `axis` move apart
-  char axis = 'x';            // the pulling direction
+  std::string kind = "pull";  // pull: grips at both ends of `axis` move apart; none: free;
+                              // pierce: a rigid indenter pushed through a clamped sheet;
+                              // tear: two grips by a notch move apart out of plane (mode III)
+  char axis = 'x';            // the pulling direction (tear: the axis the two grips sit on)
   int grip_cells = 2;         // each grip holds this many cell columns at its end
   double speed = 0.05;        // each grip's speed, in cell sizes per unit time
   double ramp_time = 20.0;    // grips accelerate linearly to `speed` over this time
@@ -58,6 +60,12 @@ struct LoadParams {
                               // specimen's tabs, so it fails in its body and not at the clamp
   int notch = 4;              // a cut this many cells deep at the middle of one side edge,
                               // across the pull (every real sheet has such a flaw; 0: none)
+  // Pierce (core/contact.hpp): a rigid round-nosed indenter moving along -z at `speed`.
+  std::string indenter = "sphere";      // sphere: a ball on a rod; cone: a cone, rounded tip
+  double indenter_radius = 3.0;         // the ball's (the cone tip's) radius, in cells
+  double indenter_angle = 30.0;         // cone: half-angle in degrees (0 < angle < 90)
+  std::array<double, 2> indenter_at{0.5, 0.5};  // axis position, fractions of the sheet's x, y
+  double contact_stiffness = 10.0;      // penalty stiffness, relative to material.k_edge
 };
 
 struct WorldParams {

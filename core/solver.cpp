@@ -4,6 +4,7 @@
 #include <limits>
 #include <sstream>
 
+#include "core/contact.hpp"
 #include "core/lattice_builder.hpp"
 #include "core/simulation.hpp"
 #include "kernels/cell_forces.hpp"
@@ -99,8 +100,12 @@ void integrate_step(World& w, SolverScratch& scratch) {
   drive_grips(w);
   const std::size_t n = w.nodes.count;
   scratch.bad.assign(chunk_count(n, kNodeChunk), kNone);
+  // The indenter (pierce only) is where it is at each stage's time: t, t + dt/2 twice, t + dt.
+  const std::optional<Indenter> indenter = make_indenter(w);
+  constexpr double kStageTime[4] = {0.0, 0.5, 0.5, 1.0};
   for (int stage = 1; stage <= 4; ++stage) {
     evaluate_forces(w, scratch);
+    if (indenter) apply_contact(w, *indenter, w.time + kStageTime[stage - 1] * w.dt);
     const StageParams params = stage_params(w, stage);
     parallel_chunks(n, kNodeChunk, [&](std::size_t b, std::size_t e, std::size_t c) {
       scratch.bad[c] = rk4_stage(b, e, params, w.nodes, w.scratch);

@@ -11,7 +11,8 @@
 //   3. node update (kernels/rk4.hpp)     parallel over nodes; clears forces for the next stage
 // That is 10 parallel regions per stage. Each node's force is its cells' terms in colour
 // order, then its blocks' corner sums in block order, whatever the thread count.
-// Gripped nodes get their prescribed velocity before stage 1. After stage 4 the step checks
+// Under a pierce load the indenter's contact force (core/contact.hpp) is added after step 2,
+// parallel over nodes. Gripped nodes get their prescribed velocity before stage 1. After stage 4 the step checks
 // for a blow-up (non-finite or runaway state) and throws BlowUpError naming the step and node.
 // Fracture (fracture/fracture_pass.hpp) runs after the step, serially.
 #pragma once

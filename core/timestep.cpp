@@ -6,6 +6,8 @@
 #include <sstream>
 #include <vector>
 
+#include "core/contact.hpp"
+
 namespace papertear {
 
 namespace {
@@ -28,6 +30,9 @@ double stiffness_bound(const World& w) {
   double bound = 0.0;
   for (std::size_t n = 0; n < w.nodes.count; ++n)
     if (w.nodes.mass[n] > 0.0f) bound = std::max(bound, 2.0 * ksum[n] / w.nodes.mass[n]);
+  // An indenter's penalty (core/contact.hpp) adds its stiffness per unit mass to every
+  // node's own diagonal block of M⁻¹K: the indenter is rigid, so no off-diagonal block.
+  if (const std::optional<Indenter> indenter = make_indenter(w)) bound += indenter->stiffness;
   return bound;
 }
 

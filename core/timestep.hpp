@@ -4,7 +4,8 @@
 // c = d·k (d = material.damping), so C = d·K + drag·M, and a mode of M⁻¹K with eigenvalue
 // ω² evolves with the roots μ of   μ² + (d ω² + drag) μ + ω² = 0.
 // By block Gershgorin on M⁻¹K (a spring adds k d̂d̂ᵀ, of norm k, to its nodes' diagonal
-// blocks and to their off-diagonal block), every ω² ≤ λ_K = max_n 2 Σk_n / m_n.
+// blocks and to their off-diagonal block), every ω² ≤ λ_K = max_n 2 Σk_n / m_n; a pierce
+// load's penalty contact (per unit mass, damped like a spring) adds its stiffness to λ_K.
 // RK4 multiplies a mode by R(z) = 1 + z + z²/2 + z³/6 + z⁴/24 with z = dt μ per step, so dt
 // is stable when |R(dt μ)| ≤ 1 for both roots at every ω² in [0, λ_K]. The limit is found by
 // bisection on dt, checking ω² on a fine grid. (Checking the roots against the exact RK4

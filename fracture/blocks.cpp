@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/lattice_builder.hpp"
 #include "core/random.hpp"
 
 namespace papertear {
@@ -88,13 +89,25 @@ float bond_strain(const World& w, std::uint32_t c, std::uint32_t n, int axis, in
 }
 
 // Cells in a grip or within load.grip_margin cells of one: their bonds never break.
+// Pull: a tab at each end. Pierce: a frame along the border, inside the clamp. Tear: only
+// the cells the fingers hold (grip_margin there is their distance to the tear line).
 bool in_grip_tab(const World& w, int i, int j) {
   const LoadParams& l = w.scene.load;
-  if (l.kind != "pull") return false;
-  const int along = l.axis == 'y' ? j : i;
-  const int n = l.axis == 'y' ? w.topo.dims.ny : w.topo.dims.nx;
+  const LatticeDims& d = w.topo.dims;
   const int tab = l.grip_cells + l.grip_margin;
-  return along < tab || along >= n - tab;
+  if (l.kind == "pull") {
+    const int along = l.axis == 'y' ? j : i;
+    const int n = l.axis == 'y' ? d.ny : d.nx;
+    return along < tab || along >= n - tab;
+  }
+  if (l.kind == "pierce") return i < tab || i >= d.nx - tab || j < tab || j >= d.ny - tab;
+  if (l.kind == "tear") {
+    const TearGrips t = tear_grips(l, d);
+    const int a = l.axis == 'y' ? j : i, b = l.axis == 'y' ? i : j;
+    const bool left = a >= t.left[0] && a < t.left[1], right = a >= t.right[0] && a < t.right[1];
+    return b < t.depth && (left || right);
+  }
+  return false;
 }
 
 }  // namespace

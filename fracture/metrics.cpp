@@ -5,6 +5,7 @@
 #include <numeric>
 #include <vector>
 
+#include "core/contact.hpp"
 #include "fracture/connectivity.hpp"
 #include "kernels/energy.hpp"
 #include "kernels/spring.hpp"
@@ -133,15 +134,18 @@ void for_each_grip_spring(const World& w, Fn&& fn) {
 }  // namespace
 
 // The pull the sheet exerts on the +axis grip (grip 2), along the pull axis (positive:
-// tension, i.e. the sheet pulls the grip back towards -axis).
+// tension, i.e. the sheet pulls the grip back towards -axis). Tear: the same along z on the
+// second grip, which moves down (positive: the sheet holds it back, pulling it up).
 double grip_force(const World& w) {
   if (w.grips.size() < 2) return 0.0;
-  const int axis = w.scene.load.axis == 'y' ? 1 : 0;
+  const bool tear = w.scene.load.kind == "tear";
+  const int axis = tear ? 2 : (w.scene.load.axis == 'y' ? 1 : 0);
+  const double sign = tear ? -1.0 : 1.0;
   double total = 0.0;
   for_each_grip_spring(w, [&](std::uint32_t node, const std::array<double, 3>& f) {
     if (w.nodes.grip[node] == 2) total -= f[std::size_t(axis)];
   });
-  return total;
+  return sign * total;
 }
 
 // The grips push against the springs' pull: their power is -f·v at every held end.
@@ -162,6 +166,7 @@ Metrics measure(const World& w) {
   measure_top_edges(w, label, two_largest(label, m.pieces), m);
   m.peeled_area = peeled_area(w);
   m.grip_force = grip_force(w);
+  m.indenter_force = indenter_force(w);
   m.kinetic_energy = kinetic_energy(0, w.nodes.count, w.nodes);
   m.elastic_energy = cell_elastic_energy(0, std::size_t(w.topo.dims.cells()), w) +
                      coarse_elastic_energy(0, w.coarse.size(), w);

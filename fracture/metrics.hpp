@@ -17,6 +17,8 @@ struct Metrics {
                                        // tear); once in pieces, the path between the two largest
   double peeled_area = 0.0;            // area of separated faces between layers
   double grip_force = 0.0;             // spring force along the pull axis on the +axis grip
+                                       // (tear: along -z on the grip that moves down)
+  double indenter_force = 0.0;         // pierce: contact force resisting the indenter (+z)
   double kinetic_energy = 0.0;
   double elastic_energy = 0.0;
   std::int64_t intact_blocks = 0;      // blocks no crack has entered

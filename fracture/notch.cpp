@@ -7,7 +7,7 @@ namespace papertear {
 
 void cut_notch(World& w) {
   const LoadParams& load = w.scene.load;
-  if (load.kind != "pull" || load.notch <= 0) return;
+  if ((load.kind != "pull" && load.kind != "tear") || load.notch <= 0) return;
   const LatticeDims& d = w.topo.dims;
   const int axis = load.axis == 'y' ? 1 : 0, across = 1 - axis;
   const int mid = (axis == 0 ? d.nx : d.ny) / 2;

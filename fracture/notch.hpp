@@ -6,7 +6,8 @@
 namespace papertear {
 
 // Cuts load.notch cells deep at pull-axis coordinate n/2 (n: cells along the pull axis),
-// from the edge at 0 of the other in-plane axis. No effect for notch = 0 or without a pull.
+// from the edge at 0 of the other in-plane axis: for a tear, between the two grips. No
+// effect for notch = 0 or under a load other than pull and tear.
 void cut_notch(World& world);
 
 }  // namespace papertear

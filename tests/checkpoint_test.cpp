@@ -199,6 +199,11 @@ TEST_CASE("every scene field survives a checkpoint", "[checkpoint]") {
   s.load.ramp_time = 3.5;
   s.load.grip_margin = 1;
   s.load.notch = 2;
+  s.load.indenter = "cone";
+  s.load.indenter_radius = 1.5;
+  s.load.indenter_angle = 45.0;
+  s.load.indenter_at = {0.25, 0.75};
+  s.load.contact_stiffness = 4.0;
   s.world.gravity = {0.1, -0.2, -9.8};
   s.world.drag = 0.01;
   s.run.steps = 1234;
@@ -238,7 +243,7 @@ TEST_CASE("damaged or foreign files are refused with the reason", "[checkpoint]"
     bad[8] = 7;
     const pt::CheckpointError e = refusal(bad);
     CHECK(e.kind == Kind::WrongVersion);
-    CHECK_THAT(e.what(), Contains("written by format version 7, this build reads version 1"));
+    CHECK_THAT(e.what(), Contains("written by format version 7, this build reads version " + std::to_string(pt::kCheckpointFormatVersion)));
   }
   SECTION("truncated") {
     for (std::size_t keep : {std::size_t(4), std::size_t(20), good.size() / 2, good.size() - 1}) {
@@ -400,6 +405,7 @@ TEST_CASE("the run state round-trips every metric exactly", "[checkpoint]") {
   m.edge_roughness = 1.5e-300;
   m.peeled_area = 7.25;
   m.grip_force = -2.0 / 7.0;
+  m.indenter_force = 5.0 / 9.0;
   m.kinetic_energy = 1e300;
   m.elastic_energy = 3.14159;
   m.intact_blocks = 99;
@@ -451,7 +457,7 @@ std::vector<FuzzSeed> fuzz_seeds() {
   const std::string payload = good.substr(pt::kCheckpointHeaderSize);
   std::string corrupted = good, version = good;
   corrupted[good.size() / 2] = char(corrupted[good.size() / 2] ^ 0x20);
-  version[8] = 2;
+  version[8] = char(pt::kCheckpointFormatVersion + 1);  // a version this build does not read
   pt::World broken = sim.world();
   broken.topo.cell_nodes[5] = 1000000;
   const std::string file(1, '\0'), wrapped(1, '\1');

@@ -29,6 +29,7 @@ Metrics metrics_from_json(const json& j) {
   j.at("edge_roughness").get_to(m.edge_roughness);
   j.at("peeled_area").get_to(m.peeled_area);
   j.at("grip_force").get_to(m.grip_force);
+  j.at("indenter_force").get_to(m.indenter_force);
   j.at("kinetic_energy").get_to(m.kinetic_energy);
   j.at("elastic_energy").get_to(m.elastic_energy);
   j.at("intact_blocks").get_to(m.intact_blocks);

@@ -50,6 +50,11 @@ void visit_scene_fields(SceneT& s, Visitor&& visit) {
   visit("load.ramp_time", s.load.ramp_time);
   visit("load.grip_margin", s.load.grip_margin);
   visit("load.notch", s.load.notch);
+  visit("load.indenter", s.load.indenter);
+  visit("load.indenter_radius", s.load.indenter_radius);
+  visit("load.indenter_angle", s.load.indenter_angle);
+  visit("load.indenter_at", s.load.indenter_at);
+  visit("load.contact_stiffness", s.load.contact_stiffness);
 
   visit("world.gravity", s.world.gravity);
   visit("world.drag", s.world.drag);

@@ -99,6 +99,9 @@ void read_into(const toml::node& n, std::string_view key, std::array<int, 3>& ou
 void read_into(const toml::node& n, std::string_view key, std::array<double, 3>& out) {
   out = read_number3(n, key);
 }
+void read_into(const toml::node& n, std::string_view key, std::array<double, 2>& out) {
+  out = read_number2(n, key);
+}
 void read_into(const toml::node& n, std::string_view key, AutoOrNumber<double> out) {
   if (auto s = n.as_string()) {
     if (s->get() != "auto") fail_at(n, key, "expected a number or \"auto\", got " + type_phrase(n));
@@ -162,8 +165,8 @@ toml::table& section_of(toml::table& root, std::string_view key) {
   return *root.emplace<toml::table>(section).first->second.as_table();
 }
 
-template <class T>
-toml::array to_array(const std::array<T, 3>& a) {
+template <class T, std::size_t N>
+toml::array to_array(const std::array<T, N>& a) {
   toml::array out;
   for (T v : a) out.push_back(static_cast<std::conditional_t<std::is_integral_v<T>, std::int64_t, double>>(v));
   return out;
@@ -180,6 +183,9 @@ void write_field(toml::table& t, std::string_view name, const std::array<int, 3>
   t.insert_or_assign(name, to_array(v));
 }
 void write_field(toml::table& t, std::string_view name, const std::array<double, 3>& v) {
+  t.insert_or_assign(name, to_array(v));
+}
+void write_field(toml::table& t, std::string_view name, const std::array<double, 2>& v) {
   t.insert_or_assign(name, to_array(v));
 }
 void write_field(toml::table& t, std::string_view name, AutoOrNumber<const double> v) {

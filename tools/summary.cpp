@@ -40,6 +40,7 @@ nlohmann::json metrics_to_json(const Metrics& m) {
       {"edge_roughness", m.edge_roughness},
       {"peeled_area", m.peeled_area},
       {"grip_force", m.grip_force},
+      {"indenter_force", m.indenter_force},
       {"kinetic_energy", m.kinetic_energy},
       {"elastic_energy", m.elastic_energy},
       {"intact_blocks", m.intact_blocks},

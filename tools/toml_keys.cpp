@@ -231,28 +231,30 @@ char read_letter(const toml::node& node, std::string_view key) {
 }
 
 namespace {
-template <class T, class Read>
-std::array<T, 3> read_triple(const toml::node& node, std::string_view key, const char* what,
-                             Read read) {
+template <class T, std::size_t N, class Read>
+std::array<T, N> read_tuple(const toml::node& node, std::string_view key, const char* what, Read read) {
   auto arr = node.as_array();
-  if (!arr || arr->size() != 3)
-    fail_at(node, key, std::string("expected an array of 3 ") + what + ", got " +
+  if (!arr || arr->size() != N)
+    fail_at(node, key, "expected an array of " + std::to_string(N) + " " + what + ", got " +
                            (arr ? "an array of " + std::to_string(arr->size()) : type_phrase(node)));
-  std::array<T, 3> out{};
-  for (std::size_t i = 0; i < 3; ++i)
+  std::array<T, N> out{};
+  for (std::size_t i = 0; i < N; ++i)
     out[i] = read((*arr)[i], std::string(key) + "[" + std::to_string(i) + "]");
   return out;
 }
+double read_number_at(const toml::node& n, const std::string& k) { return read_number(n, k); }
 }  // namespace
 
+std::array<double, 2> read_number2(const toml::node& node, std::string_view key) {
+  return read_tuple<double, 2>(node, key, "numbers", read_number_at);
+}
+
 std::array<double, 3> read_number3(const toml::node& node, std::string_view key) {
-  return read_triple<double>(node, key, "numbers", [](const toml::node& n, const std::string& k) {
-    return read_number(n, k);
-  });
+  return read_tuple<double, 3>(node, key, "numbers", read_number_at);
 }
 
 std::array<int, 3> read_int3(const toml::node& node, std::string_view key) {
-  return read_triple<int>(node, key, "integers", [](const toml::node& n, const std::string& k) {
+  return read_tuple<int, 3>(node, key, "integers", [](const toml::node& n, const std::string& k) {
     return read_int(n, k);
   });
 }

@@ -61,6 +61,7 @@ std::uint64_t read_unsigned(const toml::node& node, std::string_view key);
 bool read_bool(const toml::node& node, std::string_view key);
 std::string read_string(const toml::node& node, std::string_view key);
 char read_letter(const toml::node& node, std::string_view key);  // a one-letter string
+std::array<double, 2> read_number2(const toml::node& node, std::string_view key);
 std::array<double, 3> read_number3(const toml::node& node, std::string_view key);
 std::array<int, 3> read_int3(const toml::node& node, std::string_view key);
 
