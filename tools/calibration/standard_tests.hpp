@@ -3,8 +3,8 @@
 //  * a tensile test in the spirit of ISO 1924-2 / TAPPI T494: a strip pulled apart along its
 //    length until it breaks; the tensile strength is the peak force per unit width;
 //  * a tear test in the spirit of Elmendorf (ISO 1974 / TAPPI T414): a notched specimen torn
-//    out of plane (load.kind = "tear"); the tear resistance is the work the grips spend per
-//    unit length of tear.
+//    out of plane (load.kind = "tear"); the tear resistance is the work the grips spend to
+//    tear it through, per unit of tear distance.
 // Each runs along (MD) and across (CD) the grain. Paper's convention: an MD tensile strip is
 // pulled along the grain; an MD tear runs along the grain.
 #pragma once
@@ -33,15 +33,17 @@ struct TensileResult {
 };
 
 struct TearResult {
-  double work = 0.0;          // the grips' work on the specimen
-  double torn_length = 0.0;   // length of the tear (torn in-plane faces, top layer)
-  double resistance = 0.0;    // work per unit tear length (0 if nothing tore)
+  double work = 0.0;           // the grips' work on the specimen until it came apart
+  bool torn_through = false;   // the specimen came apart in two within the step limit
+  double tear_distance = 0.0;  // from the notch tip to the far edge
+  double torn_length = 0.0;    // torn in-plane faces of the top layer (wandering and fraying)
+  double resistance = 0.0;     // work per unit tear distance (0 if not torn through)
   std::int64_t steps = 0;
 };
 
 // Run until the specimen has broken (force fallen well below its peak) or the step limit.
 TensileResult run_tensile(const Scene& scene, int threads);
-// Run the tear to its step limit (the tear crosses most of the specimen).
+// Run the tear until the specimen is in two pieces (or the step limit).
 TearResult run_tear(const Scene& scene, int threads);
 
 // One preset's four measurements, averaged over seeds, and the two ratios paper is known by.
