@@ -295,6 +295,10 @@ TEST_CASE("the example scenes load and paper.toml is the default scene", "[scene
   const io::SceneFile across = io::load_scene_file((dir / "across_grain.toml").string());
   CHECK(across.scene.material.grain == 'y');
   CHECK(across.scene.load.axis == 'x');
+  const io::SceneFile scored = io::load_scene_file((dir / "scored.toml").string());
+  REQUIRE(scored.scene.lines.size() == 1);
+  CHECK(scored.scene.lines[0].kind == "score");
+  CHECK(scored.scene.lines[0].points.front() == std::array<double, 2>{45.0, 4.0});  // the notch's tip
 }
 
 TEST_CASE("scene_to_toml writes a scene that reads back the same", "[scene]") {
