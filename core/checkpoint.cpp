@@ -188,6 +188,20 @@ void write_scene(ByteWriter& w, const Scene& s) {
   w.value(std::int32_t(r.frames));
   w.value(std::uint64_t(r.seed));
   w.value(std::int32_t(r.max_splits_per_step));
+
+  w.value(std::uint64_t(s.lines.size()));
+  for (const LineParams& line : s.lines) {
+    w.text(line.kind);
+    w.value(std::uint64_t(line.points.size()));
+    for (const auto& p : line.points) {
+      w.value(p[0]);
+      w.value(p[1]);
+    }
+    w.value(line.strength);
+    w.value(std::int32_t(line.depth));
+    w.value(line.pitch);
+    w.value(line.duty);
+  }
 }
 
 void write_nodes(ByteWriter& w, const NodeStore& n) {
@@ -293,6 +307,9 @@ std::string write_payload(const World& world, std::string_view user_data) {
 
 int read_int(ByteReader& r, const char* what) { return int(r.value<std::int32_t>(what)); }
 
+// The fewest bytes a stored line takes: kind length, point count, strength, depth, pitch, duty.
+constexpr std::size_t kLineMinBytes = 8 + 8 + 8 + 4 + 8 + 8;
+
 void read_scene(ByteReader& r, Scene& s) {
   r.section("SCEN");
   for (int& v : s.sheet.cells) v = read_int(r, "sheet.cells");
@@ -333,6 +350,21 @@ void read_scene(ByteReader& r, Scene& s) {
   run.frames = read_int(r, "run.frames");
   run.seed = r.value<std::uint64_t>("run.seed");
   run.max_splits_per_step = read_int(r, "run.max_splits_per_step");
+
+  // Counts are checked against the bytes left before anything is allocated.
+  s.lines.resize(std::size_t(r.count(kLineMinBytes, "the line count")));
+  for (LineParams& line : s.lines) {
+    line.kind = r.text("line.kind");
+    line.points.resize(std::size_t(r.count(2 * sizeof(double), "line.points")));
+    for (auto& p : line.points) {
+      p[0] = r.value<double>("line.points");
+      p[1] = r.value<double>("line.points");
+    }
+    line.strength = r.value<double>("line.strength");
+    line.depth = read_int(r, "line.depth");
+    line.pitch = r.value<double>("line.pitch");
+    line.duty = r.value<double>("line.duty");
+  }
 }
 
 void read_nodes(ByteReader& r, NodeStore& n) {

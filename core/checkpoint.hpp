@@ -20,7 +20,9 @@
 //       32    …  payload
 //
 // The payload is a sequence of sections, each opened by a four-character tag, in this order:
-//   SCEN  every Scene field, one by one (strings: u64 length + bytes; chars: u8)
+//   SCEN  every Scene field, one by one (strings: u64 length + bytes; chars: u8); the lines
+//         last: u64 count, each kind, u64 point count + (x, y) pairs, strength, i32 depth,
+//         pitch, duty
 //   NODE  node count, then each NodeStore column (u64 count + elements)
 //   TOPO  LatticeDims, cell_nodes, the 8 colour lists, cell_scale, cell_block, face_strain
 //   SPRG  SpringTable: 28 rest lengths, 28 stiffnesses, 28 dampings
@@ -47,7 +49,7 @@
 
 namespace papertear {
 
-inline constexpr std::uint32_t kCheckpointFormatVersion = 2;  // 2: the indenter keys
+inline constexpr std::uint32_t kCheckpointFormatVersion = 3;  // 2: the indenter keys; 3: scene lines
 inline constexpr std::size_t kCheckpointHeaderSize = 32;
 inline constexpr std::string_view kCheckpointMagic{"\x89PTCK\r\n\x1a\n", 8};
 

@@ -168,7 +168,38 @@ void validate_load(const LoadParams& l, const SheetParams& s) {
   if (l.kind == "tear") validate_tear(l, s);
 }
 
+// Lines are named by their index in the scene: "line[2].points".
+void validate_line(const LineParams& line, std::size_t index, const SheetParams& s) {
+  const std::string prefix = "line[" + std::to_string(index) + "].";
+  auto key = [&](const char* field) { return prefix + field; };
+  bool known = false;
+  for (const char* k : line_kind_names()) known = known || line.kind == k;
+  require(known, key("kind").c_str(), "must be \"cut\", \"score\" or \"perforation\" (got \"" + line.kind + "\")");
+  require(line.points.size() >= 2, key("points").c_str(),
+          "needs at least 2 points (got " + std::to_string(line.points.size()) + ")");
+  const double nx = s.cells[0], ny = s.cells[1];
+  for (std::size_t i = 0; i < line.points.size(); ++i) {
+    const auto& p = line.points[i];
+    require(std::isfinite(p[0]) && std::isfinite(p[1]) && p[0] >= 0.0 && p[0] <= nx && p[1] >= 0.0 && p[1] <= ny,
+            key("points").c_str(),
+            "point " + std::to_string(i) + " (" + std::to_string(p[0]) + ", " + std::to_string(p[1]) +
+                ") lies outside the sheet [0, " + std::to_string(s.cells[0]) + "] x [0, " + std::to_string(s.cells[1]) + "]");
+  }
+  require(std::isfinite(line.strength) && line.strength > 0.0 && line.strength <= 1.0, key("strength").c_str(),
+          "must be in (0, 1] (got " + std::to_string(line.strength) + ")");
+  require(line.depth >= 0 && line.depth <= s.cells[2], key("depth").c_str(),
+          "must be 0 (all layers) to " + std::to_string(s.cells[2]) + " (got " + std::to_string(line.depth) + ")");
+  positive(line.pitch, key("pitch").c_str());
+  require(std::isfinite(line.duty) && line.duty >= 0.0 && line.duty <= 1.0, key("duty").c_str(),
+          "must be in [0, 1] (got " + std::to_string(line.duty) + ")");
+}
+
 }  // namespace
+
+const std::array<const char*, 3>& line_kind_names() {
+  static constexpr std::array<const char*, 3> names = {"cut", "score", "perforation"};
+  return names;
+}
 
 void validate(const Scene& scene) {
   validate_sheet(scene.sheet);
@@ -182,6 +213,7 @@ void validate(const Scene& scene) {
   require(scene.run.dt_safety <= 1.0, "run.dt_safety", "must be at most 1");
   require(scene.run.frames >= 1, "run.frames", "must be at least 1");
   require(scene.run.max_splits_per_step >= 0, "run.max_splits_per_step", "must not be negative");
+  for (std::size_t i = 0; i < scene.lines.size(); ++i) validate_line(scene.lines[i], i, scene.sheet);
 }
 
 }  // namespace papertear

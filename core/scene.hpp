@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace papertear {
 
@@ -83,12 +84,29 @@ struct RunParams {
   int max_splits_per_step = 0;  // run.max_splits_per_step: 0 = no cap
 };
 
+// A line drawn on the sheet to steer a tear: a `[[line]]` table in a scene file. A polyline
+// in cell units measured from the sheet's corner (x along sheet.cells[0], y along
+// sheet.cells[1]); it acts on every in-plane bond whose segment between the two cell centres
+// it crosses (fracture/lines.hpp), in the top `depth` layers.
+struct LineParams {
+  std::string kind = "score";                 // cut: opened before the first step;
+                                              // score: weakened; perforation: cut holes, lands
+  std::vector<std::array<double, 2>> points;  // >= 2 points within [0, nx] x [0, ny]
+  double strength = 0.5;  // factor on the opening strain of every crossed bond left uncut
+  int depth = 0;          // layers from the top surface the line acts on; 0: all layers
+  double pitch = 4.0;     // perforation: cells along the line per hole and land
+  double duty = 0.5;      // perforation: fraction of each pitch cut through
+
+  bool operator==(const LineParams&) const = default;
+};
+
 struct Scene {
   SheetParams sheet;
   MaterialParams material;
   LoadParams load;
   WorldParams world;
   RunParams run;
+  std::vector<LineParams> lines;  // applied in this order after the notch (empty: none)
 };
 
 // Fills every material value from a named preset (copy, coated, washi, kraft). Throws
@@ -96,6 +114,9 @@ struct Scene {
 void apply_material_preset(MaterialParams& material, const std::string& name);
 // The names apply_material_preset accepts, in a fixed order.
 const std::array<const char*, 4>& material_preset_names();
+
+// The kinds a LineParams may have, in a fixed order.
+const std::array<const char*, 3>& line_kind_names();
 
 // Throws SceneError ("<key>: <what is wrong>") for the first impossible value: sizes that
 // are zero or negative, non-finite numbers, unknown grain or load kind, a sheet too large

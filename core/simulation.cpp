@@ -8,6 +8,7 @@
 #include "core/timestep.hpp"
 #include "fracture/blocks.hpp"
 #include "fracture/fracture_pass.hpp"
+#include "fracture/lines.hpp"
 #include "fracture/notch.hpp"
 #include "kernels/energy.hpp"
 #include "kernels/parallel.hpp"
@@ -40,6 +41,7 @@ World build_world(const Scene& scene) {
   build_lattice(scene, w);
   lay_fibre_blocks(w);
   cut_notch(w);
+  apply_lines(w);
   w.dt = choose_dt(w);
   return w;
 }

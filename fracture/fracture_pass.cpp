@@ -205,26 +205,38 @@ bool break_spring(World& w, std::uint32_t cell, int slot) {
 }  // namespace
 
 NodeId split_node(World& w, NodeId split, int axis, int side) {
+  const NodeCells cells = cells_of_node(w, split.value);
+  unsigned moving = 0;
+  for (int i = 0; i < cells.count; ++i)
+    if (corner_bit(cells.items[std::size_t(i)].corner, axis) == side) moving |= 1u << i;
+  return separate_node(w, split, moving);
+}
+
+NodeId separate_node(World& w, NodeId split, unsigned moving_mask) {
   const std::uint32_t node = split.value;
   const NodeCells cells = cells_of_node(w, node);
+  auto moves = [&](int i) { return ((moving_mask >> i) & 1u) != 0; };
   int moving = 0;
-  for (const CellCorner& cc : cells) moving += corner_bit(cc.corner, axis) == side;
+  for (int i = 0; i < cells.count; ++i) moving += moves(i);
   if (moving == 0 || moving == cells.count) return NodeId{};
   const auto fresh = std::uint32_t(w.nodes.count);
   w.nodes.resize(w.nodes.count + 1);
   w.scratch.resize(w.nodes.count);
   copy_node(w, node, fresh);
-  for (const CellCorner& cc : cells)
-    if (corner_bit(cc.corner, axis) == side)
+  for (int i = 0; i < cells.count; ++i)
+    if (moves(i)) {
+      const CellCorner& cc = cells.items[std::size_t(i)];
       w.topo.cell_nodes[std::size_t(cc.cell) * 8 + cc.corner] = fresh;
+    }
   set_mass(w, node, cells.count - moving);
   set_mass(w, fresh, moving);
   // A block with cells on both sides has been entered by the crack.
-  for (const CellCorner& a : cells)
-    for (const CellCorner& b : cells)
-      if (corner_bit(a.corner, axis) == side && corner_bit(b.corner, axis) != side &&
-          w.topo.cell_block[a.cell] == w.topo.cell_block[b.cell])
-        enter_block(w, w.topo.cell_block[a.cell]);
+  for (int a = 0; a < cells.count; ++a)
+    for (int b = 0; b < cells.count; ++b) {
+      const std::uint32_t block = w.topo.cell_block[cells.items[std::size_t(a)].cell];
+      if (moves(a) && !moves(b) && block == w.topo.cell_block[cells.items[std::size_t(b)].cell])
+        enter_block(w, block);
+    }
   return NodeId(fresh);
 }
 

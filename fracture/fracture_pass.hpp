@@ -41,4 +41,9 @@ std::size_t fracture_pass(World& world, FractureScratch& scratch);
 // either side has no cell (nothing to split). Updates masses, grips, blocks and scratch sizes.
 NodeId split_node(World& world, NodeId node, int axis, int side);
 
+// The general form: the cells using `node` whose bit is set in `moving_mask` (bit i: the
+// i-th cell of cells_of_node, fracture/node_cells.hpp, in ascending cell order) get a new
+// node. Any grouping keeps the invariants, since every cell keeps its corner at the vertex.
+NodeId separate_node(World& world, NodeId node, unsigned moving_mask);
+
 }  // namespace papertear

@@ -212,6 +212,14 @@ TEST_CASE("every scene field survives a checkpoint", "[checkpoint]") {
   s.run.frames = 17;
   s.run.seed = 0xfedcba9876543210ull;
   s.run.max_splits_per_step = 9;
+  pt::LineParams line;
+  line.kind = "perforation";
+  line.points = {{1.0, 0.5}, {2.25, 3.0}};
+  line.strength = 0.75;
+  line.depth = 1;
+  line.pitch = 2.5;
+  line.duty = 0.3;
+  s.lines = {line};
 
   const pt::Scene back = pt::deserialize_world(pt::serialize_world(world)).scene;
   const nlohmann::json before = io::scene_to_json(s), after = io::scene_to_json(back),
@@ -219,9 +227,14 @@ TEST_CASE("every scene field survives a checkpoint", "[checkpoint]") {
   CHECK(after == before);
   CHECK(back.run.seed == s.run.seed);  // beyond a double's 53 bits
   // The test is only as good as its coverage: every key but the sheet's size was changed.
+  CHECK(back.lines == s.lines);
+  for (const auto& [key, value] : before["line"][0].items()) {
+    INFO("line." << key);
+    CHECK(value != io::scene_to_json(pt::Scene{.lines = {pt::LineParams{}}})["line"][0][key]);
+  }
   for (const auto& [section, keys] : before.items())
     for (const auto& [key, value] : keys.items()) {
-      if (section == "sheet") continue;
+      if (section == "sheet" || section == "line") continue;
       INFO(section << "." << key);
       CHECK(value != defaults[section][key]);
     }
@@ -243,7 +256,8 @@ TEST_CASE("damaged or foreign files are refused with the reason", "[checkpoint]"
     bad[8] = 7;
     const pt::CheckpointError e = refusal(bad);
     CHECK(e.kind == Kind::WrongVersion);
-    CHECK_THAT(e.what(), Contains("written by format version 7, this build reads version " + std::to_string(pt::kCheckpointFormatVersion)));
+    CHECK_THAT(e.what(), Contains("written by format version 7, this build reads version " +
+                                  std::to_string(pt::kCheckpointFormatVersion)));
   }
   SECTION("truncated") {
     for (std::size_t keep : {std::size_t(4), std::size_t(20), good.size() / 2, good.size() - 1}) {
@@ -457,7 +471,7 @@ std::vector<FuzzSeed> fuzz_seeds() {
   const std::string payload = good.substr(pt::kCheckpointHeaderSize);
   std::string corrupted = good, version = good;
   corrupted[good.size() / 2] = char(corrupted[good.size() / 2] ^ 0x20);
-  version[8] = char(pt::kCheckpointFormatVersion + 1);  // a version this build does not read
+  version[8] = char(pt::kCheckpointFormatVersion + 1);  // another format version
   pt::World broken = sim.world();
   broken.topo.cell_nodes[5] = 1000000;
   const std::string file(1, '\0'), wrapped(1, '\1');

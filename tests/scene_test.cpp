@@ -1,5 +1,6 @@
 // Scene files: every key type, preset-then-override order, --set values, and the errors a
 // person gets for a mistyped key, a syntax error, a wrong type or an impossible value.
+#include <algorithm>
 #include <array>
 #include <filesystem>
 #include <fstream>
@@ -9,6 +10,7 @@
 
 #include <catch2/catch.hpp>
 
+#include "tools/scene_fields.hpp"
 #include "tools/scene_file.hpp"
 #include "tools/summary.hpp"
 #include "tools/toml_keys.hpp"
@@ -76,7 +78,13 @@ TEST_CASE("scene_keys lists every Scene field once", "[scene]") {
   CHECK(keys_in_section("load") == member_count<pt::LoadParams>());
   CHECK(keys_in_section("world") == member_count<pt::WorldParams>());
   CHECK(keys_in_section("run") == member_count<pt::RunParams>());
-  CHECK(member_count<pt::Scene>() == 5);
+  CHECK(member_count<pt::Scene>() == 6);  // the five sections and the [[line]] list
+  const auto& keys = io::scene_keys();
+  CHECK(std::count(keys.begin(), keys.end(), "line") == 1);
+  std::size_t line_fields = 0;
+  const pt::LineParams line;
+  io::visit_line_fields(line, [&](std::string_view, auto&&) { ++line_fields; });
+  CHECK(line_fields == member_count<pt::LineParams>());
 }
 
 TEST_CASE("every key type is read from a scene file", "[scene]") {
@@ -287,6 +295,10 @@ TEST_CASE("the example scenes load and paper.toml is the default scene", "[scene
   const io::SceneFile across = io::load_scene_file((dir / "across_grain.toml").string());
   CHECK(across.scene.material.grain == 'y');
   CHECK(across.scene.load.axis == 'x');
+  const io::SceneFile scored = io::load_scene_file((dir / "scored.toml").string());
+  REQUIRE(scored.scene.lines.size() == 1);
+  CHECK(scored.scene.lines[0].kind == "score");
+  CHECK(scored.scene.lines[0].points.front() == std::array<double, 2>{45.0, 4.0});  // the notch's tip
 }
 
 TEST_CASE("scene_to_toml writes a scene that reads back the same", "[scene]") {

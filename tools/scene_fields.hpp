@@ -2,6 +2,7 @@
 // TOML, writing TOML and writing JSON all walk this list, so a field added to core/scene.hpp
 // needs one line here and nothing else in tools/.
 #pragma once
+#include <string>
 #include <type_traits>
 
 #include "core/scene.hpp"
@@ -65,6 +66,25 @@ void visit_scene_fields(SceneT& s, Visitor&& visit) {
   visit("run.frames", s.run.frames);
   visit("run.seed", s.run.seed);
   visit("run.max_splits_per_step", s.run.max_splits_per_step);
+
+  // A top-level array of tables ([[line]]): each element's fields by visit_line_fields.
+  visit("line", s.lines);
 }
+
+// Calls visit(name, field) for every field of one [[line]] table, in file order. LineT is
+// LineParams or const LineParams.
+template <class LineT, class Visitor>
+  requires std::is_same_v<std::remove_const_t<LineT>, LineParams>
+void visit_line_fields(LineT& l, Visitor&& visit) {
+  visit("kind", l.kind);
+  visit("points", l.points);
+  visit("strength", l.strength);
+  visit("depth", l.depth);
+  visit("pitch", l.pitch);
+  visit("duty", l.duty);
+}
+
+// "line[2]": how errors and dotted paths name the element at `index`.
+inline std::string line_name(std::size_t index) { return "line[" + std::to_string(index) + "]"; }
 
 }  // namespace papertear::io

@@ -112,6 +112,40 @@ void read_into(const toml::node& n, std::string_view key, AutoOrNumber<double> o
   out.value = read_number(n, key);
 }
 
+void read_into(const toml::node& n, std::string_view key, std::vector<std::array<double, 2>>& out) {
+  const toml::array* arr = n.as_array();
+  if (!arr) fail_at(n, key, "expected an array of [x, y] points, got " + type_phrase(n));
+  out.clear();
+  for (std::size_t i = 0; i < arr->size(); ++i) {
+    const toml::node& point = (*arr)[i];
+    const std::string name = std::string(key) + "[" + std::to_string(i) + "]";
+    const toml::array* xy = point.as_array();
+    if (!xy || xy->size() != 2) fail_at(point, name, "expected a point [x, y], got " + type_phrase(point));
+    out.push_back({read_number((*xy)[0], name + "[0]"), read_number((*xy)[1], name + "[1]")});
+  }
+}
+
+// [[line]]: an array of tables, each checked for unknown keys like the rest of the file.
+void read_into(const toml::node& n, std::string_view key, std::vector<LineParams>& out) {
+  const toml::array* arr = n.as_array();
+  if (!arr) fail_at(n, key, "expected an array of tables ([[line]]), got " + type_phrase(n));
+  out.clear();
+  for (std::size_t i = 0; i < arr->size(); ++i) {
+    const std::string name = line_name(i);
+    const toml::table* table = (*arr)[i].as_table();
+    if (!table) fail_at((*arr)[i], name, "expected a table, got " + type_phrase((*arr)[i]));
+    std::vector<std::string> known;
+    const LineParams defaults;
+    visit_line_fields(defaults, [&](std::string_view field, auto&&) { known.push_back(name + "." + std::string(field)); });
+    check_known_keys(*table, name, known);
+    LineParams line;
+    visit_line_fields(line, [&](std::string_view field, auto&& value) {
+      if (const toml::node* node = table->get(field)) read_into(*node, name + "." + std::string(field), value);
+    });
+    out.push_back(std::move(line));
+  }
+}
+
 // Re-throws a core SceneError ("<key>: <problem>") with the place the key was written.
 [[noreturn]] void rethrow_located(const SceneError& e, const toml::table& doc,
                                   std::string_view source_name) {
@@ -119,7 +153,8 @@ void read_into(const toml::node& n, std::string_view key, AutoOrNumber<double> o
   // The key is the message's leading dotted name ("sheet.cells[0] (nx): ..." -> sheet.cells).
   std::size_t end = 0;
   while (end < message.size() && (std::isalnum(static_cast<unsigned char>(message[end])) ||
-                                  message[end] == '_' || message[end] == '.'))
+                                  message[end] == '_' || message[end] == '.' || message[end] == '[' ||
+                                  message[end] == ']'))
     ++end;
   std::string key = message.substr(0, end);
   if (const toml::node* node = doc.at_path(key).node(); node && !where(*node).empty())
@@ -187,6 +222,21 @@ void write_field(toml::table& t, std::string_view name, const std::array<double,
 }
 void write_field(toml::table& t, std::string_view name, const std::array<double, 2>& v) {
   t.insert_or_assign(name, to_array(v));
+}
+void write_field(toml::table& t, std::string_view name, const std::vector<std::array<double, 2>>& points) {
+  toml::array out;
+  for (const auto& p : points) out.push_back(toml::array{p[0], p[1]});
+  t.insert_or_assign(name, std::move(out));
+}
+void write_field(toml::table& t, std::string_view name, const std::vector<LineParams>& lines) {
+  if (lines.empty()) return;  // a scene without lines reads as one
+  toml::array out;
+  for (const LineParams& line : lines) {
+    toml::table fields;
+    visit_line_fields(line, [&](std::string_view field, auto&& value) { write_field(fields, field, value); });
+    out.push_back(std::move(fields));
+  }
+  t.insert_or_assign(name, std::move(out));
 }
 void write_field(toml::table& t, std::string_view name, AutoOrNumber<const double> v) {
   if (v.value == 0.0)
@@ -276,7 +326,10 @@ SceneFile default_scene_file(std::span<const SetOverride> overrides) {
 toml::table scene_to_toml(const Scene& scene) {
   toml::table root;
   visit_scene_fields(scene, [&](std::string_view key, auto&& field) {
-    write_field(section_of(root, key), key.substr(key.find('.') + 1), field);
+    if (key.find('.') == std::string_view::npos)
+      write_field(root, key, field);  // a top-level array of tables: [[line]]
+    else
+      write_field(section_of(root, key), key.substr(key.find('.') + 1), field);
   });
   return root;
 }

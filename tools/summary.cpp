@@ -20,6 +20,15 @@ template <class T>
 nlohmann::json field_json(const T& v) {
   return v;
 }
+nlohmann::json field_json(const std::vector<LineParams>& lines) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const LineParams& line : lines) {
+    nlohmann::json fields = nlohmann::json::object();
+    visit_line_fields(line, [&](std::string_view name, auto&& value) { fields[std::string(name)] = field_json(value); });
+    out.push_back(std::move(fields));
+  }
+  return out;
+}
 
 }  // namespace
 
@@ -51,7 +60,10 @@ nlohmann::json scene_to_json(const Scene& scene) {
   nlohmann::json out = nlohmann::json::object();
   visit_scene_fields(scene, [&](std::string_view key, auto&& field) {
     std::size_t dot = key.find('.');
-    out[std::string(key.substr(0, dot))][std::string(key.substr(dot + 1))] = field_json(field);
+    if (dot == std::string_view::npos)
+      out[std::string(key)] = field_json(field);  // "line": an array of objects
+    else
+      out[std::string(key.substr(0, dot))][std::string(key.substr(dot + 1))] = field_json(field);
   });
   return out;
 }
