@@ -19,6 +19,16 @@ xsimd::batch<float, A> zero_where_dead(const xsimd::batch<float, A>& f, const xs
 }
 #endif
 
+// f where the lane's block is live, exact +0 elsewhere.
+inline float keep_live(float f, float live) { return live != 0.0f ? f : 0.0f; }
+#ifndef PAPERTEAR_NO_SIMD
+template <class A>
+xsimd::batch<float, A> keep_live(const xsimd::batch<float, A>& f, const xsimd::batch<float, A>& live) {
+  using V = xsimd::batch<float, A>;
+  return xsimd::select(live != V(0.0f), f, V(0.0f));
+}
+#endif
+
 // Where each spring's ends live in topo.cell_nodes.
 struct SlotsFromSprings {
   const CoarseSprings& s;
@@ -100,7 +110,7 @@ struct BlockLanes {
     const float* src[6] = {in.px, in.py, in.pz, in.vx, in.vy, in.vz};
     for (int q = 0; q < 8; ++q)
       for (std::size_t l = 0; l < W; ++l) {
-        const std::uint32_t n = in.cell_nodes[L.corner_slot[std::size_t(q) * P + j + l]];
+        const std::uint32_t n = L.corner_node[std::size_t(q) * P + j + l];
         for (int f = 0; f < 6; ++f) buf[f][q][l] = src[f][n];
       }
     V x[8], y[8], z[8], u[8], v[8], w[8], fx[8], fy[8], fz[8];
@@ -118,7 +128,7 @@ struct BlockLanes {
 #endif
     for (int i = 0; i < kSpringsPerCell; ++i) {
       const int a = kSpringSlots[std::size_t(i)].a, b = kSpringSlots[std::size_t(i)].b;
-      const std::size_t at = std::size_t(i) * P + j;
+      const std::size_t at = BlockLattice::param_at(j, std::size_t(i));
       const V k = T::load(L.stiffness.data() + at), c = T::load(L.damping.data() + at);
       const V dx = x[b] - x[a], dy = y[b] - y[a], dz = z[b] - z[a];
       const V len = T::sqrt(dx * dx + dy * dy + dz * dz);
@@ -131,9 +141,12 @@ struct BlockLanes {
       fx[a] = fx[a] + gx; fy[a] = fy[a] + gy; fz[a] = fz[a] + gz;
       fx[b] = fx[b] - gx; fy[b] = fy[b] - gy; fz[b] = fz[b] - gz;
     }
+    const V live = T::load(L.live.data() + j);
     for (int q = 0; q < 8; ++q) {
       const std::size_t at = std::size_t(q) * P + j;
-      T::store(L.fx.data() + at, fx[q]); T::store(L.fy.data() + at, fy[q]); T::store(L.fz.data() + at, fz[q]);
+      T::store(L.fx.data() + at, keep_live(fx[q], live));
+      T::store(L.fy.data() + at, keep_live(fy[q], live));
+      T::store(L.fz.data() + at, keep_live(fz[q], live));
     }
   }
 };
@@ -144,7 +157,7 @@ using BlockLane = xsimd::batch<float, xsimd::avx2>;
 #else
 using BlockLane = lanes::Wide;
 #endif
-static_assert(kBlockLanes % lanes::Traits<BlockLane>::width == 0, "lane padding fits the vector width");
+static_assert(kBlockGroup % lanes::Traits<BlockLane>::width == 0, "a vector never straddles a parameter group");
 
 }  // namespace
 
@@ -158,6 +171,8 @@ void build_block_lattice(const CoarseSprings& sp, const std::vector<Block>& bloc
   L.block.assign(P, UINT32_MAX);
   L.corner_slot.resize(8 * P);
   std::fill(L.corner_slot.begin(), L.corner_slot.end(), 0u);
+  L.corner_node.resize(8 * P);
+  L.live.resize(P);
   for (AlignedArray<float>* a : {&L.rest, &L.stiffness, &L.damping}) {
     a->resize(kSpringsPerCell * P);
     std::fill(a->begin(), a->end(), 0.0f);
@@ -170,7 +185,7 @@ void build_block_lattice(const CoarseSprings& sp, const std::vector<Block>& bloc
     for (std::uint32_t i = blk.first_spring; i < blk.first_spring + blk.spring_count; ++i) {
       int slot = 0;
       while (kSpringSlots[std::size_t(slot)].a != sp.corner_a[i] || kSpringSlots[std::size_t(slot)].b != sp.corner_b[i]) ++slot;
-      const std::size_t at = std::size_t(slot) * P + j;
+      const std::size_t at = BlockLattice::param_at(j, std::size_t(slot));
       L.rest[at] = sp.rest[i];
       L.stiffness[at] = sp.stiffness[i];
       L.damping[at] = sp.damping[i];
@@ -191,17 +206,23 @@ void build_block_lattice(const CoarseSprings& sp, const std::vector<Block>& bloc
       if (used[std::size_t(q) * P + j]) ++L.first[vertex_of(j, q) + 1];
   for (std::size_t v = 0; v < vertices; ++v) L.first[v + 1] += L.first[v];
   L.entry.resize(L.first[vertices]);
-  L.entry_slot.resize(L.first[vertices]);
   std::vector<std::uint32_t> fill(L.first.begin(), L.first.end() - 1);
   for (std::size_t j = 0; j < P; ++j)
     for (int q = 0; q < 8; ++q)
       if (used[std::size_t(q) * P + j]) {
         const std::uint32_t v = vertex_of(j, q);
-        L.entry[fill[v]] = std::uint32_t(j * 8 + std::size_t(q));
-        L.entry_slot[fill[v]++] = L.corner_slot[std::size_t(q) * P + j];
+        L.entry[fill[v]++] = std::uint32_t(std::size_t(q) * P + j);
       }
   L.springs = sp.size();
   L.built_from = sp.cell_a.data();
+}
+
+void refresh_block_lattice(std::size_t begin, std::size_t end, const Topology& topo,
+                           const std::vector<Block>& blocks, BlockLattice& L) {
+  for (std::size_t q = 0; q < 8; ++q)
+    for (std::size_t j = begin; j < end; ++j) L.corner_node[q * L.lanes + j] = topo.cell_nodes[L.corner_slot[q * L.lanes + j]];
+  for (std::size_t j = begin; j < end; ++j)
+    L.live[j] = L.block[j] != UINT32_MAX && blocks[L.block[j]].intact ? 1.0f : 0.0f;
 }
 
 void block_lattice_forces(std::size_t begin, std::size_t end, const CellForceInputs& in, BlockLattice& L) {
@@ -210,16 +231,10 @@ void block_lattice_forces(std::size_t begin, std::size_t end, const CellForceInp
   for (std::size_t j = begin; j < end; j += W) BlockLanes<BlockLane>::run(j, in, L);
 }
 
-void gather_block_lattice_forces(std::size_t vbegin, std::size_t vend, const BlockLattice& L,
-                                 const std::vector<Block>& blocks, const Topology& topo, const ForceOutputs& out) {
+void gather_block_lattice_forces(std::size_t vbegin, std::size_t vend, const BlockLattice& L, const ForceOutputs& out) {
   const FlushSubnormals flush;
-  const std::size_t P = L.lanes;
-  const std::uint32_t* cell_nodes = topo.cell_nodes.data();
   for (std::size_t e = L.first[vbegin]; e < L.first[vend]; ++e) {
-    const std::size_t lane = L.entry[e] / 8u, q = L.entry[e] % 8u;
-    if (!blocks[L.block[lane]].intact) continue;
-    const std::uint32_t node = cell_nodes[L.entry_slot[e]];
-    const std::size_t at = q * P + lane;
+    const std::uint32_t at = L.entry[e], node = L.corner_node[at];
     out.fx[node] += L.fx[at];
     out.fy[node] += L.fy[at];
     out.fz[node] += L.fz[at];
