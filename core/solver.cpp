@@ -162,6 +162,13 @@ void stage_nodes(World& w, SolverScratch& scratch, const ForceOutputs& out, cons
 
 }  // namespace
 
+void add_fine_forces(const Topology& topo, const CellForceInputs& in, const ForceOutputs& out) {
+  for (int p = 0; p < 4; ++p) {
+    const FinePhase phase = fine_phase(topo, p);
+    parallel_chunks(phase.tasks(), 1, [&](std::size_t t, std::size_t, std::size_t) { phase.run(t, in, out); });
+  }
+}
+
 void evaluate_forces(World& w, SolverScratch& scratch) {
   const CellForceInputs in = stage_inputs(w);
   const ForceOutputs out = force_outputs(w);

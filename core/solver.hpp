@@ -39,6 +39,8 @@ inline constexpr std::size_t kVertexChunk = 2048;
 inline constexpr std::size_t kBlockChunk = 256;  // block-lattice lanes
 static_assert(kBlockChunk % kBlockLanes == 0, "block chunks hold whole vectors");
 
+// Adds the fine spring forces only, in the solver's 4 phases (for benchmarks and tests).
+void add_fine_forces(const Topology& topo, const CellForceInputs& in, const ForceOutputs& out);
 // Evaluates all spring forces at the stage state into scratch.fx/fy/fz (which must be zero).
 void evaluate_forces(World& world, SolverScratch& scratch);
 // One RK4 step (no fracture); advances world.time but not world.step.
