@@ -1,5 +1,5 @@
 // The fine-spring force kernel alone (kernels/cell_forces.hpp): one force evaluation over
-// all 8 colours, each colour cut into the solver's fixed chunks by parallel_chunks, inside a
+// all 8 colours in the solver's 4 phases of rows (add_fine_forces, core/solver.hpp), inside a
 // task arena of the case's thread count. This is the solver's hot loop without the node
 // update, the block-lattice springs or the fracture pass around it.
 #include <cstddef>
@@ -11,7 +11,6 @@
 #include "core/simulation.hpp"
 #include "core/solver.hpp"
 #include "kernels/cell_forces.hpp"
-#include "kernels/parallel.hpp"
 
 namespace papertear::bench {
 namespace {
@@ -35,13 +34,6 @@ CellForceInputs node_state_inputs(const World& w) {
           w.topo.cell_nodes.data(), w.topo.cell_scale.data(), &w.springs};
 }
 
-void all_colours(const Topology& topo, const CellForceInputs& in, const ForceOutputs& out) {
-  for (const auto& cells : topo.colour_cells)
-    parallel_chunks(cells.size(), kCellChunk, [&](std::size_t b, std::size_t e, std::size_t) {
-      add_cell_forces(b, e, cells.data(), in, out);
-    });
-}
-
 void force_papertear(benchmark::State& state, Case c) {
   Simulation sim(quiet_pull_scene(c.size), {.threads = 1});
   sim.step(kWarmupSteps);
@@ -54,7 +46,7 @@ void force_papertear(benchmark::State& state, Case c) {
   tbb::task_arena arena(c.threads);
   double seconds = 0.0;
   for (auto _ : state) {
-    const double t = timed([&] { arena.execute([&] { all_colours(world.topo, in, out); }); });
+    const double t = timed([&] { arena.execute([&] { add_fine_forces(world.topo, in, out); }); });
     benchmark::ClobberMemory();
     state.SetIterationTime(t);
     seconds += t;

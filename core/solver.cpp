@@ -1,6 +1,7 @@
 #include "core/solver.hpp"
 
 #include <algorithm>
+#include <cassert>
 #include <limits>
 #include <sstream>
 
@@ -71,45 +72,132 @@ void parallel_chunks_pair(std::size_t na, std::size_t chunk_a, const BodyA& body
   });
 }
 
+// The fine springs in 4 parallel regions ("phases") instead of one per colour. Phase p
+// holds the lattice rows (j, k) with j % 2 == p & 1 and k % 2 == p >> 1: colours 2p (even i)
+// and 2p + 1 (odd i). A task takes whole rows and adds colour 2p of its rows, then colour
+// 2p + 1. The bits are those of 8 colour regions: around a node there is exactly one row of
+// each phase (one j and one k of each parity), so its two cells of a phase lie in one task
+// and are added in colour order, and phases run in colour order; rows of different tasks
+// differ by at least 2 in j or k, so tasks never share a node. Task boundaries depend on
+// the lattice size alone.
+struct FinePhase {
+  const std::vector<std::uint32_t>* even;  // colour 2p, row by row
+  const std::vector<std::uint32_t>* odd;   // colour 2p + 1, row by row
+  std::size_t rows = 0, even_per_row = 0, odd_per_row = 0, rows_per_task = 1;
+
+  std::size_t tasks() const { return chunk_count(rows, rows_per_task); }
+  void run(std::size_t task, const CellForceInputs& in, const ForceOutputs& out) const {
+    const std::size_t r0 = task * rows_per_task, r1 = std::min(rows, r0 + rows_per_task);
+    add_cell_row_forces(r0 * even_per_row, r1 * even_per_row, even_per_row, even->data(), in, out);
+    add_cell_row_forces(r0 * odd_per_row, r1 * odd_per_row, odd_per_row, odd->data(), in, out);
+  }
+};
+
+FinePhase fine_phase(const Topology& topo, int p) {
+  const LatticeDims& d = topo.dims;
+  auto with_parity = [](int n, int parity) { return std::size_t((n + 1 - parity) / 2); };
+  FinePhase f;
+  f.even = &topo.colour_cells[std::size_t(2 * p)];
+  f.odd = &topo.colour_cells[std::size_t(2 * p + 1)];
+  f.rows = with_parity(d.ny, p & 1) * with_parity(d.nl, p >> 1);
+  f.even_per_row = with_parity(d.nx, 0);
+  f.odd_per_row = with_parity(d.nx, 1);
+  f.rows_per_task = std::max<std::size_t>(1, kCellChunk / std::size_t(std::max(d.nx, 1)));
+  // core/lattice_builder.cpp lists each colour's cells by ascending id, i.e. row by row.
+  assert(f.even->size() == f.rows * f.even_per_row && f.odd->size() == f.rows * f.odd_per_row);
+  return f;
+}
+
+// All fine springs and pass 1 of the block lattice (which shares the first phase's region:
+// both read the stage state and they write disjoint outputs, node forces vs per-block
+// corner sums). The block sums still have to be gathered. `new_topology`: nodes may have been
+// split or blocks entered since the last call, so the block lattice is refreshed.
+void add_fine_and_block_forces(World& w, SolverScratch& scratch, const CellForceInputs& in,
+                               const ForceOutputs& out, bool new_topology) {
+  BlockLattice& lattice = scratch.lattice;
+  if (!lattice.matches(w.coarse)) {
+    build_block_lattice(w.coarse, w.blocks, w.topo.dims, lattice);
+    new_topology = true;
+  }
+  const FinePhase first = fine_phase(w.topo, 0);
+  parallel_chunks_pair(
+      first.tasks(), 1, [&](std::size_t t, std::size_t) { first.run(t, in, out); },
+      lattice.lanes, kBlockChunk, [&](std::size_t b, std::size_t e) {
+        if (new_topology) refresh_block_lattice(b, e, w.topo, w.blocks, lattice);
+        block_lattice_forces(b, e, in, lattice);
+      });
+  for (int p = 1; p < 4; ++p) {
+    const FinePhase phase = fine_phase(w.topo, p);
+    parallel_chunks(phase.tasks(), 1, [&](std::size_t t, std::size_t, std::size_t) { phase.run(t, in, out); });
+  }
+}
+
+ForceOutputs force_outputs(World& w) { return {w.scratch.fx.data(), w.scratch.fy.data(), w.scratch.fz.data()}; }
+
+// Nodes below this id are updated in the gather's region (see stage_nodes); a multiple of
+// every vector width, so the rest starts aligned.
+std::size_t fused_node_end(const World& w) {
+  const std::size_t vertices = std::size_t(w.topo.dims.vertices());
+  return std::min(w.nodes.count, vertices / 64 * 64);
+}
+
+// Gathers the block sums and runs the RK4 node stage in one region. Node n < vertices sits
+// at vertex n (splits append new ids), so once a task has gathered vertices [b, e) the
+// nodes [b, e) have their whole force and it updates them at once, while they are in cache.
+// Nodes from splits (and the few original ones past the last multiple of 64) wait for all
+// gathers and are updated after the region. RK4 is per node, so the partition cannot change
+// its bits; `bad` holds per task the first node that blew up, in node order.
+void stage_nodes(World& w, SolverScratch& scratch, const ForceOutputs& out, const StageParams& params) {
+  const BlockLattice& lattice = scratch.lattice;
+  const std::size_t vertices = std::size_t(w.topo.dims.vertices()), fused = fused_node_end(w);
+  static_assert(kVertexChunk % 64 == 0, "vertex chunks start nodes at aligned ids");
+  const std::size_t tasks = chunk_count(vertices, kVertexChunk);
+  parallel_chunks(vertices, kVertexChunk, [&](std::size_t b, std::size_t e, std::size_t c) {
+    if (lattice.lanes != 0) gather_block_lattice_forces(b, e, lattice, out);
+    if (b < fused) scratch.bad[c] = rk4_stage(b, std::min(e, fused), params, w.nodes, w.scratch);
+  });
+  parallel_chunks(w.nodes.count - fused, kNodeChunk, [&](std::size_t b, std::size_t e, std::size_t c) {
+    scratch.bad[tasks + c] = rk4_stage(fused + b, fused + e, params, w.nodes, w.scratch);
+  });
+}
+
 }  // namespace
+
+void add_fine_forces(const Topology& topo, const CellForceInputs& in, const ForceOutputs& out) {
+  for (int p = 0; p < 4; ++p) {
+    const FinePhase phase = fine_phase(topo, p);
+    parallel_chunks(phase.tasks(), 1, [&](std::size_t t, std::size_t, std::size_t) { phase.run(t, in, out); });
+  }
+}
 
 void evaluate_forces(World& w, SolverScratch& scratch) {
   const CellForceInputs in = stage_inputs(w);
-  const ForceOutputs out{w.scratch.fx.data(), w.scratch.fy.data(), w.scratch.fz.data()};
-  BlockLattice& lattice = scratch.lattice;
-  if (!lattice.matches(w.coarse)) build_block_lattice(w.coarse, w.blocks, w.topo.dims, lattice);
-  // Colour 0 shares its region with pass 1 of the block lattice: both read the stage state
-  // and they write disjoint outputs (node forces vs per-block corner sums).
-  const auto& first = w.topo.colour_cells[0];
-  parallel_chunks_pair(
-      first.size(), kCellChunk, [&](std::size_t b, std::size_t e) { add_cell_forces(b, e, first.data(), in, out); },
-      lattice.lanes, kBlockChunk, [&](std::size_t b, std::size_t e) { block_lattice_forces(b, e, in, lattice); });
-  for (std::size_t colour = 1; colour < w.topo.colour_cells.size(); ++colour) {
-    const auto& cells = w.topo.colour_cells[colour];
-    parallel_chunks(cells.size(), kCellChunk, [&](std::size_t b, std::size_t e, std::size_t) {
-      add_cell_forces(b, e, cells.data(), in, out);
-    });
-  }
+  const ForceOutputs out = force_outputs(w);
+  add_fine_and_block_forces(w, scratch, in, out, true);
+  const BlockLattice& lattice = scratch.lattice;
   if (lattice.lanes == 0) return;
   parallel_chunks(lattice.first.size() - 1, kVertexChunk, [&](std::size_t b, std::size_t e, std::size_t) {
-    gather_block_lattice_forces(b, e, lattice, w.blocks, w.topo, out);
+    gather_block_lattice_forces(b, e, lattice, out);
   });
 }
 
 void integrate_step(World& w, SolverScratch& scratch) {
   drive_grips(w);
-  const std::size_t n = w.nodes.count;
-  scratch.bad.assign(chunk_count(n, kNodeChunk), kNone);
+  const std::size_t vertices = std::size_t(w.topo.dims.vertices());
+  scratch.bad.assign(chunk_count(vertices, kVertexChunk) + chunk_count(w.nodes.count - fused_node_end(w), kNodeChunk),
+                     kNone);
+  const CellForceInputs in = stage_inputs(w);
+  const ForceOutputs out = force_outputs(w);
   // The indenter (pierce only) is where it is at each stage's time: t, t + dt/2 twice, t + dt.
+  // Its push goes in first, while the force columns are still zero (the previous stage's
+  // RK4 update cleared them): the springs then add to it, and the fused gather + RK4 region
+  // sees every force a node gets.
   const std::optional<Indenter> indenter = make_indenter(w);
   constexpr double kStageTime[4] = {0.0, 0.5, 0.5, 1.0};
   for (int stage = 1; stage <= 4; ++stage) {
-    evaluate_forces(w, scratch);
     if (indenter) apply_contact(w, *indenter, w.time + kStageTime[stage - 1] * w.dt);
-    const StageParams params = stage_params(w, stage);
-    parallel_chunks(n, kNodeChunk, [&](std::size_t b, std::size_t e, std::size_t c) {
-      scratch.bad[c] = rk4_stage(b, e, params, w.nodes, w.scratch);
-    });
+    add_fine_and_block_forces(w, scratch, in, out, stage == 1);  // fracture splits between steps
+    stage_nodes(w, scratch, out, stage_params(w, stage));
   }
   for (std::uint32_t bad : scratch.bad)
     if (bad != kNone) report_blow_up(w, bad);

@@ -2,14 +2,18 @@
 //
 // Per stage, in this order (each line is one or more parallel regions; kernels/parallel.hpp
 // explains why the result does not depend on the thread count):
-//   1. fine springs, colour 0 .. 7       parallel over the cells of one colour (no shared nodes);
+//   1. fine springs, 4 phases            phase p = rows (j, k) of parity (p & 1, p >> 1), i.e.
+//                                        colours 2p and 2p + 1; a task takes whole rows and
+//                                        adds colour 2p, then 2p + 1 (core/solver.cpp: why the
+//                                        bits are those of one region per colour)
 //      block lattice, pass 1             parallel over blocks (8 per vector), in the same region
-//                                        as colour 0: one force sum per block corner
+//                                        as phase 0: one force sum per block corner
 //   2. block lattice, pass 2             parallel over lattice vertices, each adding the corner
-//                                        sums of its blocks in ascending block id
-//                                        (kernels/coarse_forces.hpp)
-//   3. node update (kernels/rk4.hpp)     parallel over nodes; clears forces for the next stage
-// That is 10 parallel regions per stage. Each node's force is its cells' terms in colour
+//      + node update (kernels/rk4.hpp)   sums of its blocks in ascending block id
+//                                        (kernels/coarse_forces.hpp), then updating the nodes
+//                                        whose id is that vertex; clears forces for the next stage
+//      node update of split nodes        after that region (nodes from splits sit anywhere)
+// That is 5 parallel regions per stage. Each node's force is its cells' terms in colour
 // order, then its blocks' corner sums in block order, whatever the thread count.
 // Under a pierce load the indenter's contact force (core/contact.hpp) is added after step 2,
 // parallel over nodes. Gripped nodes get their prescribed velocity before stage 1. After stage 4 the step checks
@@ -30,12 +34,14 @@ struct SolverScratch {
 };
 
 // Chunk sizes (elements per task). Fixed numbers, never derived from the thread count.
-inline constexpr std::size_t kCellChunk = 512;
+inline constexpr std::size_t kCellChunk = 512;  // fracture detection; fine-spring tasks take ~this many cells in whole rows
 inline constexpr std::size_t kNodeChunk = 2048;
 inline constexpr std::size_t kVertexChunk = 2048;
 inline constexpr std::size_t kBlockChunk = 256;  // block-lattice lanes
 static_assert(kBlockChunk % kBlockLanes == 0, "block chunks hold whole vectors");
 
+// Adds the fine spring forces only, in the solver's 4 phases (for benchmarks and tests).
+void add_fine_forces(const Topology& topo, const CellForceInputs& in, const ForceOutputs& out);
 // Evaluates all spring forces at the stage state into scratch.fx/fy/fz (which must be zero).
 void evaluate_forces(World& world, SolverScratch& scratch);
 // One RK4 step (no fracture); advances world.time but not world.step.

@@ -22,6 +22,10 @@ template <class V>
 struct CellSprings {
   using T = lanes::Traits<V>;
 
+  // kUnitScale: every lane's cell factor s is exactly 1 (all cells of every scene the
+  // library builds), so k = s * K is K bit for bit and the two multiplications per spring
+  // are skipped.
+  template <bool kUnitScale = false>
   static void run(const V (&x)[8], const V (&y)[8], const V (&z)[8], const V (&u)[8], const V (&v)[8],
                   const V (&w)[8], const V& s, const SpringTable& tab, V (&fx)[8], V (&fy)[8], V (&fz)[8]) {
     const V one = T::broadcast(1.0f);
@@ -38,8 +42,8 @@ struct CellSprings {
       const V du = u[b] - u[a], dv = v[b] - v[a], dw = w[b] - w[a];
       const V len = T::sqrt(dx * dx + dy * dy + dz * dz);
       const V inv = one / len;
-      const V k = s * T::broadcast(tab.stiffness[std::size_t(i)]);
-      const V c = s * T::broadcast(tab.damping[std::size_t(i)]);
+      const V k = kUnitScale ? T::broadcast(tab.stiffness[std::size_t(i)]) : s * T::broadcast(tab.stiffness[std::size_t(i)]);
+      const V c = kUnitScale ? T::broadcast(tab.damping[std::size_t(i)]) : s * T::broadcast(tab.damping[std::size_t(i)]);
       const V rate = (du * dx + dv * dy + dw * dz) * inv;  // Δv · d̂
       const V mag = k * (len - T::broadcast(tab.rest[std::size_t(i)])) + c * rate;
       const V g = mag * inv;
@@ -57,7 +61,9 @@ struct CellLanes {
   using T = lanes::Traits<V>;
   static constexpr std::size_t W = T::width;
 
-  static void run(const std::uint32_t* cells, const CellForceInputs& in, const ForceOutputs& out) {
+  // Lanes below `skip` are computed but not added (their cells were done by another group).
+  static void run(const std::uint32_t* cells, const CellForceInputs& in, const ForceOutputs& out,
+                  std::size_t skip = 0) {
     alignas(64) float buf[6][8][W];
     alignas(64) std::uint32_t node[8][W];
     alignas(64) float scale[W];
@@ -82,7 +88,7 @@ struct CellLanes {
     for (int q = 0; q < 8; ++q) {
       T::store(buf[0][q], fx[q]); T::store(buf[1][q], fy[q]); T::store(buf[2][q], fz[q]);
     }
-    for (std::size_t l = 0; l < W; ++l)
+    for (std::size_t l = skip; l < W; ++l)
       for (int q = 0; q < 8; ++q) {
         const std::uint32_t n = node[q][l];
         out.fx[n] += buf[0][q][l];
@@ -111,6 +117,20 @@ inline void add_pair(float* p, __m256 even, __m256 odd) {
   const __m256 a = _mm256_unpacklo_ps(even, odd), b = _mm256_unpackhi_ps(even, odd);
   _mm256_storeu_ps(p, _mm256_add_ps(_mm256_loadu_ps(p), _mm256_permute2f128_ps(a, b, 0x20)));
   _mm256_storeu_ps(p + 8, _mm256_add_ps(_mm256_loadu_ps(p + 8), _mm256_permute2f128_ps(a, b, 0x31)));
+}
+
+// The same, leaving lanes l < skip unchanged (a blend, so their bits stay exactly as they were).
+inline void add_pair_from(float* p, __m256 even, __m256 odd, int skip) {
+  const __m256i lane_lo = _mm256_setr_epi32(0, 0, 1, 1, 2, 2, 3, 3), lane_hi = _mm256_setr_epi32(4, 4, 5, 5, 6, 6, 7, 7);
+  const __m256i first = _mm256_set1_epi32(skip - 1);
+  const __m256 keep_lo = _mm256_castsi256_ps(_mm256_cmpgt_epi32(lane_lo, first));
+  const __m256 keep_hi = _mm256_castsi256_ps(_mm256_cmpgt_epi32(lane_hi, first));
+  const __m256 a = _mm256_unpacklo_ps(even, odd), b = _mm256_unpackhi_ps(even, odd);
+  const __m256 old_lo = _mm256_loadu_ps(p), old_hi = _mm256_loadu_ps(p + 8);
+  const __m256 new_lo = _mm256_add_ps(old_lo, _mm256_permute2f128_ps(a, b, 0x20));
+  const __m256 new_hi = _mm256_add_ps(old_hi, _mm256_permute2f128_ps(a, b, 0x31));
+  _mm256_storeu_ps(p, _mm256_blendv_ps(old_lo, new_lo, keep_lo));
+  _mm256_storeu_ps(p + 8, _mm256_blendv_ps(old_hi, new_hi, keep_hi));
 }
 
 // A "regular" group: 8 cells of a colour along one row (ids c, c+2, ..., c+14) whose corner
@@ -144,7 +164,8 @@ struct RegularGroup {
     return true;
   }
 
-  static bool run(const std::uint32_t* cells, const CellForceInputs& in, const ForceOutputs& out) {
+  static bool run(const std::uint32_t* cells, const CellForceInputs& in, const ForceOutputs& out,
+                  std::size_t skip = 0) {
     std::uint32_t base[4];
     if (!bases(cells, in.cell_nodes, base)) return false;
     V x[8], y[8], z[8], u[8], v[8], w[8];
@@ -158,13 +179,22 @@ struct RegularGroup {
         dst[f][2 * p + 1] = odd;
       }
     alignas(32) float scale[8];
-    for (int l = 0; l < 8; ++l) scale[l] = in.cell_scale[cells[l]];
+    bool unit = true;
+    for (int l = 0; l < 8; ++l) {
+      scale[l] = in.cell_scale[cells[l]];
+      unit &= scale[l] == 1.0f;
+    }
     V fx[8], fy[8], fz[8];
-    CellSprings<V>::run(x, y, z, u, v, w, V::load_aligned(scale), *in.table, fx, fy, fz);
+    const V s = V::load_aligned(scale);
+    if (unit) CellSprings<V>::template run<true>(x, y, z, u, v, w, s, *in.table, fx, fy, fz);
+    else CellSprings<V>::run(x, y, z, u, v, w, s, *in.table, fx, fy, fz);
     float* dst_f[3] = {out.fx, out.fy, out.fz};
     const V* force[3] = {fx, fy, fz};
     for (int p = 0; p < 4; ++p)
-      for (int f = 0; f < 3; ++f) add_pair(dst_f[f] + base[p], force[f][2 * p], force[f][2 * p + 1]);
+      for (int f = 0; f < 3; ++f) {
+        if (skip == 0) add_pair(dst_f[f] + base[p], force[f][2 * p], force[f][2 * p + 1]);
+        else add_pair_from(dst_f[f] + base[p], force[f][2 * p], force[f][2 * p + 1], int(skip));
+      }
     return true;
   }
 };
@@ -187,6 +217,35 @@ void add_forces_with(std::size_t begin, std::size_t end, const std::uint32_t* ce
   for (; i < end; ++i) CellLanes<float>::run(cells + i, in, out);
 }
 
+// W cells from `cells`, adding only lanes >= skip.
+template <class V>
+void add_group(const std::uint32_t* cells, const CellForceInputs& in, const ForceOutputs& out, std::size_t skip) {
+#ifdef PAPERTEAR_CELL_REGULAR
+  if constexpr (std::is_same_v<V, CellLane>)
+    if (RegularGroup::run(cells, in, out, skip)) return;
+#endif
+  CellLanes<V>::run(cells, in, out, skip);
+}
+
+// Row by row: groups of W from each row's start, and a row whose length is not a multiple of
+// W ends with a group overlapping the one before it, whose already-done lanes are computed
+// but not added. So no group straddles a row end and every group can be regular.
+template <class V>
+void add_rows_with(std::size_t begin, std::size_t end, std::size_t per_row, const std::uint32_t* cells,
+                   const CellForceInputs& in, const ForceOutputs& out) {
+  constexpr std::size_t W = CellLanes<V>::W;
+  if (per_row < W) {
+    add_forces_with<V>(begin, end, cells, in, out);
+    return;
+  }
+  for (std::size_t row = begin; row < end; row += per_row) {
+    const std::size_t row_end = row + per_row;
+    std::size_t i = row;
+    for (; i + W <= row_end; i += W) add_group<V>(cells + i, in, out, 0);
+    if (i < row_end) add_group<V>(cells + row_end - W, in, out, W - (row_end - i));
+  }
+}
+
 }  // namespace
 
 #ifdef PAPERTEAR_HAS_MXCSR
@@ -201,6 +260,12 @@ void add_cell_forces(std::size_t begin, std::size_t end, const std::uint32_t* ce
                      const CellForceInputs& in, const ForceOutputs& out) {
   const FlushSubnormals flush;
   add_forces_with<CellLane>(begin, end, cells, in, out);
+}
+
+void add_cell_row_forces(std::size_t begin, std::size_t end, std::size_t per_row, const std::uint32_t* cells,
+                         const CellForceInputs& in, const ForceOutputs& out) {
+  const FlushSubnormals flush;
+  add_rows_with<CellLane>(begin, end, per_row, cells, in, out);
 }
 
 void add_cell_forces_scalar(std::size_t begin, std::size_t end, const std::uint32_t* cells,

@@ -1,8 +1,13 @@
 #include "kernels/coarse_forces.hpp"
 
 #include <algorithm>
+#include <type_traits>
 
 #include "kernels/lanes.hpp"
+
+#if !defined(PAPERTEAR_NO_SIMD) && XSIMD_WITH_AVX2
+#include <immintrin.h>
+#endif
 
 namespace papertear {
 namespace {
@@ -16,6 +21,16 @@ xsimd::batch<float, A> zero_where_dead(const xsimd::batch<float, A>& f, const xs
                                        const xsimd::batch<float, A>& c) {
   using V = xsimd::batch<float, A>;
   return xsimd::select((k == V(0.0f)) & (c == V(0.0f)), V(0.0f), f);
+}
+#endif
+
+// f where the lane's block is live, exact +0 elsewhere.
+inline float keep_live(float f, float live) { return live != 0.0f ? f : 0.0f; }
+#ifndef PAPERTEAR_NO_SIMD
+template <class A>
+xsimd::batch<float, A> keep_live(const xsimd::batch<float, A>& f, const xsimd::batch<float, A>& live) {
+  using V = xsimd::batch<float, A>;
+  return xsimd::select(live != V(0.0f), f, V(0.0f));
 }
 #endif
 
@@ -94,21 +109,40 @@ struct BlockLanes {
   using T = lanes::Traits<V>;
   static constexpr std::size_t W = T::width;
 
-  static void run(std::size_t j, const CellForceInputs& in, BlockLattice& L) {
-    const std::size_t P = L.lanes;
+  // Corner q of lane l is node nodes[q * stride + l]: scalar loads through an aligned buffer.
+  static void load_corners(const std::uint32_t* nodes, std::size_t stride, const CellForceInputs& in, V (&x)[8],
+                           V (&y)[8], V (&z)[8], V (&u)[8], V (&v)[8], V (&w)[8]) {
+#if !defined(PAPERTEAR_NO_SIMD) && XSIMD_WITH_AVX2
+    // The blocks' corners are scattered over the sheet: hardware gathers keep the loads in
+    // flight together instead of funnelling 384 scalar stores through the buffer. Same values.
+    if constexpr (std::is_same_v<V, xsimd::batch<float, xsimd::avx2>>) {
+      for (std::size_t q = 0; q < 8; ++q) {
+        const __m256i n = _mm256_load_si256(reinterpret_cast<const __m256i*>(nodes + q * stride));
+        x[q] = _mm256_i32gather_ps(in.px, n, 4); y[q] = _mm256_i32gather_ps(in.py, n, 4);
+        z[q] = _mm256_i32gather_ps(in.pz, n, 4); u[q] = _mm256_i32gather_ps(in.vx, n, 4);
+        v[q] = _mm256_i32gather_ps(in.vy, n, 4); w[q] = _mm256_i32gather_ps(in.vz, n, 4);
+      }
+      return;
+    }
+#endif
     alignas(64) float buf[6][8][W];
     const float* src[6] = {in.px, in.py, in.pz, in.vx, in.vy, in.vz};
-    for (int q = 0; q < 8; ++q)
+    for (std::size_t q = 0; q < 8; ++q)
       for (std::size_t l = 0; l < W; ++l) {
-        const std::uint32_t n = in.cell_nodes[L.corner_slot[std::size_t(q) * P + j + l]];
+        const std::uint32_t n = nodes[q * stride + l];
         for (int f = 0; f < 6; ++f) buf[f][q][l] = src[f][n];
       }
-    V x[8], y[8], z[8], u[8], v[8], w[8], fx[8], fy[8], fz[8];
     for (int q = 0; q < 8; ++q) {
       x[q] = T::load(buf[0][q]); y[q] = T::load(buf[1][q]); z[q] = T::load(buf[2][q]);
       u[q] = T::load(buf[3][q]); v[q] = T::load(buf[4][q]); w[q] = T::load(buf[5][q]);
-      fx[q] = fy[q] = fz[q] = T::broadcast(0.0f);
     }
+  }
+
+  static void run(std::size_t j, const CellForceInputs& in, BlockLattice& L) {
+    const std::size_t P = L.lanes;
+    V x[8], y[8], z[8], u[8], v[8], w[8], fx[8], fy[8], fz[8];
+    load_corners(L.corner_node.data() + j, P, in, x, y, z, u, v, w);
+    for (int q = 0; q < 8; ++q) fx[q] = fy[q] = fz[q] = T::broadcast(0.0f);
     const V one = T::broadcast(1.0f);
     // Fully unrolled, so that corner values and sums index registers, not a stack array.
 #if defined(__GNUC__) && !defined(__clang__)
@@ -118,7 +152,7 @@ struct BlockLanes {
 #endif
     for (int i = 0; i < kSpringsPerCell; ++i) {
       const int a = kSpringSlots[std::size_t(i)].a, b = kSpringSlots[std::size_t(i)].b;
-      const std::size_t at = std::size_t(i) * P + j;
+      const std::size_t at = BlockLattice::param_at(j, std::size_t(i));
       const V k = T::load(L.stiffness.data() + at), c = T::load(L.damping.data() + at);
       const V dx = x[b] - x[a], dy = y[b] - y[a], dz = z[b] - z[a];
       const V len = T::sqrt(dx * dx + dy * dy + dz * dz);
@@ -131,9 +165,12 @@ struct BlockLanes {
       fx[a] = fx[a] + gx; fy[a] = fy[a] + gy; fz[a] = fz[a] + gz;
       fx[b] = fx[b] - gx; fy[b] = fy[b] - gy; fz[b] = fz[b] - gz;
     }
+    const V live = T::load(L.live.data() + j);
     for (int q = 0; q < 8; ++q) {
       const std::size_t at = std::size_t(q) * P + j;
-      T::store(L.fx.data() + at, fx[q]); T::store(L.fy.data() + at, fy[q]); T::store(L.fz.data() + at, fz[q]);
+      T::store(L.fx.data() + at, keep_live(fx[q], live));
+      T::store(L.fy.data() + at, keep_live(fy[q], live));
+      T::store(L.fz.data() + at, keep_live(fz[q], live));
     }
   }
 };
@@ -144,7 +181,7 @@ using BlockLane = xsimd::batch<float, xsimd::avx2>;
 #else
 using BlockLane = lanes::Wide;
 #endif
-static_assert(kBlockLanes % lanes::Traits<BlockLane>::width == 0, "lane padding fits the vector width");
+static_assert(kBlockGroup % lanes::Traits<BlockLane>::width == 0, "a vector never straddles a parameter group");
 
 }  // namespace
 
@@ -158,6 +195,8 @@ void build_block_lattice(const CoarseSprings& sp, const std::vector<Block>& bloc
   L.block.assign(P, UINT32_MAX);
   L.corner_slot.resize(8 * P);
   std::fill(L.corner_slot.begin(), L.corner_slot.end(), 0u);
+  L.corner_node.resize(8 * P);
+  L.live.resize(P);
   for (AlignedArray<float>* a : {&L.rest, &L.stiffness, &L.damping}) {
     a->resize(kSpringsPerCell * P);
     std::fill(a->begin(), a->end(), 0.0f);
@@ -170,7 +209,7 @@ void build_block_lattice(const CoarseSprings& sp, const std::vector<Block>& bloc
     for (std::uint32_t i = blk.first_spring; i < blk.first_spring + blk.spring_count; ++i) {
       int slot = 0;
       while (kSpringSlots[std::size_t(slot)].a != sp.corner_a[i] || kSpringSlots[std::size_t(slot)].b != sp.corner_b[i]) ++slot;
-      const std::size_t at = std::size_t(slot) * P + j;
+      const std::size_t at = BlockLattice::param_at(j, std::size_t(slot));
       L.rest[at] = sp.rest[i];
       L.stiffness[at] = sp.stiffness[i];
       L.damping[at] = sp.damping[i];
@@ -191,17 +230,23 @@ void build_block_lattice(const CoarseSprings& sp, const std::vector<Block>& bloc
       if (used[std::size_t(q) * P + j]) ++L.first[vertex_of(j, q) + 1];
   for (std::size_t v = 0; v < vertices; ++v) L.first[v + 1] += L.first[v];
   L.entry.resize(L.first[vertices]);
-  L.entry_slot.resize(L.first[vertices]);
   std::vector<std::uint32_t> fill(L.first.begin(), L.first.end() - 1);
   for (std::size_t j = 0; j < P; ++j)
     for (int q = 0; q < 8; ++q)
       if (used[std::size_t(q) * P + j]) {
         const std::uint32_t v = vertex_of(j, q);
-        L.entry[fill[v]] = std::uint32_t(j * 8 + std::size_t(q));
-        L.entry_slot[fill[v]++] = L.corner_slot[std::size_t(q) * P + j];
+        L.entry[fill[v]++] = std::uint32_t(std::size_t(q) * P + j);
       }
   L.springs = sp.size();
   L.built_from = sp.cell_a.data();
+}
+
+void refresh_block_lattice(std::size_t begin, std::size_t end, const Topology& topo,
+                           const std::vector<Block>& blocks, BlockLattice& L) {
+  for (std::size_t q = 0; q < 8; ++q)
+    for (std::size_t j = begin; j < end; ++j) L.corner_node[q * L.lanes + j] = topo.cell_nodes[L.corner_slot[q * L.lanes + j]];
+  for (std::size_t j = begin; j < end; ++j)
+    L.live[j] = L.block[j] != UINT32_MAX && blocks[L.block[j]].intact ? 1.0f : 0.0f;
 }
 
 void block_lattice_forces(std::size_t begin, std::size_t end, const CellForceInputs& in, BlockLattice& L) {
@@ -210,16 +255,10 @@ void block_lattice_forces(std::size_t begin, std::size_t end, const CellForceInp
   for (std::size_t j = begin; j < end; j += W) BlockLanes<BlockLane>::run(j, in, L);
 }
 
-void gather_block_lattice_forces(std::size_t vbegin, std::size_t vend, const BlockLattice& L,
-                                 const std::vector<Block>& blocks, const Topology& topo, const ForceOutputs& out) {
+void gather_block_lattice_forces(std::size_t vbegin, std::size_t vend, const BlockLattice& L, const ForceOutputs& out) {
   const FlushSubnormals flush;
-  const std::size_t P = L.lanes;
-  const std::uint32_t* cell_nodes = topo.cell_nodes.data();
   for (std::size_t e = L.first[vbegin]; e < L.first[vend]; ++e) {
-    const std::size_t lane = L.entry[e] / 8u, q = L.entry[e] % 8u;
-    if (!blocks[L.block[lane]].intact) continue;
-    const std::uint32_t node = cell_nodes[L.entry_slot[e]];
-    const std::size_t at = q * P + lane;
+    const std::uint32_t at = L.entry[e], node = L.corner_node[at];
     out.fx[node] += L.fx[at];
     out.fy[node] += L.fy[at];
     out.fz[node] += L.fz[at];
