@@ -139,11 +139,15 @@ struct Renderer::Impl {
 
 namespace {
 
+// Ray masks: opaque triangles and peeled skins are two geometries of one scene, so a
+// shadow ray can skip the skins without a second BVH.
+constexpr unsigned kOpaqueMask = 1u, kSkinMask = 2u, kAnyMask = kOpaqueMask | kSkinMask;
+
 // Everything a tile needs to trace one frame; read-only while tracing.
 class FrameTracer {
  public:
   FrameTracer(RTCDevice device, const SurfaceMesh& mesh, const Look& look, const Texture& texture)
-      : mesh_(mesh), look_(look), texture_(texture), all_(device), opaque_(device), translucent_(device) {
+      : mesh_(mesh), look_(look), texture_(texture), scene_(device) {
     build(device);
   }
 
@@ -152,17 +156,17 @@ class FrameTracer {
     float throughput = 1.0f;
     float tnear = 0.0f;
     for (int layer = 0; layer < kMaxLayersCrossed; ++layer) {
-      RTCRayHit rh = make_ray(origin, dir, tnear);
+      RTCRayHit rh = make_ray(origin, dir, tnear, kAnyMask);
       RTCIntersectContext ctx;
       rtcInitIntersectContext(&ctx);
-      rtcIntersect1(all_.scene, &ctx, &rh);
+      rtcIntersect1(scene_.scene, &ctx, &rh);
       if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return colour + throughput * look_.background;
-      const std::uint32_t tri = rh.hit.primID;
+      const std::uint32_t tri = triangle(rh.hit);
       const float alpha = mesh_.opacity[tri];
       const bool entering = tri_normal_[tri].dot(dir) < 0.0f;
-      if (alpha >= 1.0f) return colour + throughput * shade(rh, origin, dir, key);
+      if (alpha >= 1.0f) return colour + throughput * shade(rh, tri, origin, dir, key);
       if (entering) {  // a peeled skin: its own colour, then what is behind it
-        colour += throughput * alpha * shade(rh, origin, dir, key);
+        colour += throughput * alpha * shade(rh, tri, origin, dir, key);
         throughput *= 1.0f - alpha;
         if (throughput < 1.0f / 1024.0f) return colour;
       }
@@ -175,77 +179,83 @@ class FrameTracer {
   void build(RTCDevice device) {
     const std::size_t nv = mesh_.vertex_count(), nt = mesh_.triangle_count();
     tri_normal_.resize(nt);
-    std::vector<std::uint32_t> all(nt);
     for (std::uint32_t t = 0; t < nt; ++t) {
       const auto& v = mesh_.triangles[t];
       const Vec3 a = vec(mesh_.position[v[0]]), b = vec(mesh_.position[v[1]]), c = vec(mesh_.position[v[2]]);
       const Vec3 n = (b - a).cross(c - a);
       const float len = n.norm();
       tri_normal_[t] = len > 0.0f ? Vec3(n / len) : Vec3(0, 0, 1);
-      all[t] = t;
-      (mesh_.opacity[t] < 1.0f ? translucent_ids_ : opaque_ids_).push_back(t);
+      (mesh_.opacity[t] < 1.0f ? ids_[1] : ids_[0]).push_back(t);
     }
     float extent = 0.0f;
     for (const auto& p : mesh_.position) extent = std::max({extent, std::abs(p[0]), std::abs(p[1]), std::abs(p[2])});
     eps_ = std::max(1e-4f, 2e-5f * extent);
-    // One copy of the vertices for all three scenes; Embree reads up to 16 bytes at a time,
+    // One copy of the vertices for both geometries; Embree reads up to 16 bytes at a time,
     // hence the padding.
     vertices_.resize(3 * nv + 4, 0.0f);
     for (std::size_t i = 0; i < nv; ++i)
       for (std::size_t c = 0; c < 3; ++c) vertices_[3 * i + c] = mesh_.position[i][c];
-    attach(device, all_, all);
-    attach(device, opaque_, opaque_ids_);
-    attach(device, translucent_, translucent_ids_);
-  }
-
-  // Puts the listed triangles into `scene` and builds it; primitive p is triangle tris[p].
-  void attach(RTCDevice device, EmbreeScene& scene, const std::vector<std::uint32_t>& tris) {
-    if (!tris.empty()) {
-      RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-      rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, vertices_.data(), 0,
-                                 3 * sizeof(float), mesh_.vertex_count());
-      auto* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                                                3 * sizeof(unsigned), tris.size()));
-      check_device(device, "allocating geometry");
-      for (std::size_t p = 0; p < tris.size(); ++p)
-        for (std::size_t c = 0; c < 3; ++c) ib[3 * p + c] = mesh_.triangles[tris[p]][c];
-      rtcCommitGeometry(geom);
-      rtcAttachGeometry(scene.scene, geom);
-      rtcReleaseGeometry(geom);
-    }
+    attach(device, 0, kOpaqueMask);
+    attach(device, 1, kSkinMask);
     // Robust: no shortcuts that let rays slip between triangles sharing an edge.
-    rtcSetSceneFlags(scene.scene, RTC_SCENE_FLAG_ROBUST);
-    rtcSetSceneBuildQuality(scene.scene, RTC_BUILD_QUALITY_MEDIUM);
-    rtcCommitScene(scene.scene);
+    rtcSetSceneFlags(scene_.scene, RTC_SCENE_FLAG_ROBUST);
+    rtcSetSceneBuildQuality(scene_.scene, RTC_BUILD_QUALITY_MEDIUM);
+    rtcCommitScene(scene_.scene);
     check_device(device, "building the scene");
   }
 
-  static RTCRayHit make_ray(const Vec3& o, const Vec3& d, float tnear) {
+  // Puts the triangles ids_[g] into the scene as geometry g; its primitive p is triangle
+  // ids_[g][p].
+  void attach(RTCDevice device, unsigned g, unsigned mask) {
+    const std::vector<std::uint32_t>& tris = ids_[g];
+    if (tris.empty()) return;
+    RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, vertices_.data(), 0,
+                               3 * sizeof(float), mesh_.vertex_count());
+    auto* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                              3 * sizeof(unsigned), tris.size()));
+    check_device(device, "allocating geometry");
+    for (std::size_t p = 0; p < tris.size(); ++p)
+      for (std::size_t c = 0; c < 3; ++c) ib[3 * p + c] = mesh_.triangles[tris[p]][c];
+    rtcSetGeometryMask(geom, mask);
+    rtcCommitGeometry(geom);
+    rtcAttachGeometryByID(scene_.scene, geom, g);
+    rtcReleaseGeometry(geom);
+  }
+
+  std::uint32_t triangle(const RTCHit& hit) const { return ids_[hit.geomID][hit.primID]; }
+
+  static RTCRayHit make_ray(const Vec3& o, const Vec3& d, float tnear, unsigned mask) {
     RTCRayHit rh{};
     rh.ray.org_x = o.x(); rh.ray.org_y = o.y(); rh.ray.org_z = o.z();
     rh.ray.dir_x = d.x(); rh.ray.dir_y = d.y(); rh.ray.dir_z = d.z();
     rh.ray.tnear = tnear;
     rh.ray.tfar = std::numeric_limits<float>::infinity();
-    rh.ray.mask = 0xFFFFFFFFu;
+    rh.ray.mask = mask;
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
     return rh;
   }
 
   // How much of the light reaches `origin` along `dir`: 0 behind anything opaque, reduced by
-  // every peeled skin the shadow ray passes into.
+  // every peeled skin the shadow ray passes into. Without skins one any-hit query answers
+  // it; with skins the hits are walked in order (one closest-hit query when nothing is in
+  // the way, the common case, instead of an any-hit query plus a walk through the skins).
   float visibility(const Vec3& origin, const Vec3& dir) const {
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
-    RTCRay ray = make_ray(origin, dir, 0.0f).ray;
-    rtcOccluded1(opaque_.scene, &ctx, &ray);
-    if (ray.tfar < 0.0f) return 0.0f;
+    if (ids_[1].empty()) {
+      RTCRay ray = make_ray(origin, dir, 0.0f, kOpaqueMask).ray;
+      rtcOccluded1(scene_.scene, &ctx, &ray);
+      return ray.tfar < 0.0f ? 0.0f : 1.0f;
+    }
     float transmitted = 1.0f, tnear = 0.0f;
-    for (int layer = 0; layer < kMaxLayersCrossed && !translucent_ids_.empty(); ++layer) {
-      RTCRayHit rh = make_ray(origin, dir, tnear);
-      rtcIntersect1(translucent_.scene, &ctx, &rh);
+    for (int layer = 0; layer < kMaxLayersCrossed; ++layer) {
+      RTCRayHit rh = make_ray(origin, dir, tnear, kAnyMask);
+      rtcIntersect1(scene_.scene, &ctx, &rh);
       if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return transmitted;
-      const std::uint32_t tri = translucent_ids_[rh.hit.primID];
+      if (rh.hit.geomID == 0) return 0.0f;
+      const std::uint32_t tri = triangle(rh.hit);
       if (tri_normal_[tri].dot(dir) < 0.0f) transmitted *= 1.0f - mesh_.opacity[tri];
       if (transmitted < 1.0f / 1024.0f) return 0.0f;
       tnear = rh.ray.tfar + eps_;
@@ -287,8 +297,7 @@ class FrameTracer {
     return (look_.to_light + r * (std::cos(phi) * look_.light_u + std::sin(phi) * look_.light_v)).normalized();
   }
 
-  Vec3 shade(const RTCRayHit& rh, const Vec3& origin, const Vec3& dir, std::uint64_t key) const {
-    const std::uint32_t tri = rh.hit.primID;
+  Vec3 shade(const RTCRayHit& rh, std::uint32_t tri, const Vec3& origin, const Vec3& dir, std::uint64_t key) const {
     const Vec3 point = origin + rh.ray.tfar * dir;
     Vec3 ng = tri_normal_[tri];
     Vec3 n = shading_normal(tri, rh.hit.u, rh.hit.v, ng);
@@ -318,10 +327,8 @@ class FrameTracer {
   const Texture& texture_;
   std::vector<float> vertices_;
   std::vector<Vec3> tri_normal_;
-  std::vector<std::uint32_t> opaque_ids_, translucent_ids_;
-  // Primary rays see everything; shadow rays first ask whether anything opaque is in the
-  // way (any hit, the cheap query) and only then sum the skins they pass through.
-  EmbreeScene all_, opaque_, translucent_;
+  std::array<std::vector<std::uint32_t>, 2> ids_;  // triangles of geometry 0 (opaque) and 1 (skins)
+  EmbreeScene scene_;
   float eps_ = 1e-4f;
 };
 
