@@ -206,6 +206,9 @@ TEST_CASE("frayed fibres stick out of torn faces only, the same way every time",
   // A crack that has split but not opened grows no fibres; a narrow one grows short ones.
   const SurfaceMesh closed = build_surface_mesh(torn_sheet(nx, ny, nl, 0.0f), options);
   CHECK(closed.triangle_count() == plain.triangle_count());
+  // A hairline crack whose fringe would be under a tenth of fray_length grows none either.
+  const SurfaceMesh hairline = build_surface_mesh(torn_sheet(nx, ny, nl, 0.09f), options);
+  CHECK(hairline.triangle_count() == plain.triangle_count());
   const SurfaceMesh narrow = build_surface_mesh(torn_sheet(nx, ny, nl, 0.2f), options);
   REQUIRE(narrow.triangle_count() > plain.triangle_count());
   for (std::size_t t = plain.triangle_count(); t < narrow.triangle_count(); ++t)

@@ -15,6 +15,8 @@ namespace {
 
 using Vec3 = Eigen::Vector3f;
 
+constexpr float kShortestFringe = 0.1f;  // of the longest fibre: shorter fringes are not drawn
+
 // The torn face as a bilinear patch P(u, w): u runs along the face in the sheet's plane,
 // w up through the thickness.
 struct FacePatch {
@@ -150,8 +152,12 @@ void append_frayed_face(const World& world, std::uint32_t cell, int face, float 
   // Fibres grow as the tear opens: from each side they reach at most half way across the
   // gap, so a crack that has only just split shows none, and none poke into the cell
   // they were torn from.
+  const float longest = length;
   length = std::min(length, 0.5f * opening(world, cell, face) / cell_size);
-  if (length <= 1e-3f || !make_patch(world, cell, face, f)) return;
+  // A fringe shorter than a tenth of the longest lies nearly flat on its face, which is
+  // drawn fibre-white anyway; in a damage zone of hairline cracks such fringes would be
+  // half of a frame's triangles, and every triangle costs the ray tracer's BVH build.
+  if (length < kShortestFringe * longest || length <= 1e-3f || !make_patch(world, cell, face, f)) return;
   // The in-plane tangent and the sheet's up direction at this face, for lean and lift.
   const Vec3 along = (f.p[1][0] + f.p[1][1] - f.p[0][0] - f.p[0][1]).normalized();
   const Vec3 up = (f.p[0][1] + f.p[1][1] - f.p[0][0] - f.p[1][0]).normalized();

@@ -5,7 +5,8 @@
 // widths, lengths and tips are a pure function of (cell, face), so a tear keeps the same
 // fringe from frame to frame, and the physics never sees them. They grow with the opening
 // of the tear (at most half way across the gap from each side) and never rise above the
-// face, so a fresh crack does not sprout fibres through the print.
+// face, so a fresh crack does not sprout fibres through the print. A face whose fringe would
+// be shorter than a tenth of `length` grows none (it would lie flat on the face).
 #pragma once
 #include <cstdint>
 

@@ -139,119 +139,225 @@ struct Renderer::Impl {
 
 namespace {
 
+// Rays traced together as one Embree packet.
+constexpr int kPacket = 16;
+struct PacketRays {
+  std::array<Vec3, kPacket> dir;
+  std::array<std::uint64_t, kPacket> key;
+  int count = 0;
+};
+
+// Ray masks: opaque triangles and peeled skins are two geometries of one scene, so a
+// shadow ray can skip the skins without a second BVH.
+constexpr unsigned kOpaqueMask = 1u, kSkinMask = 2u, kAnyMask = kOpaqueMask | kSkinMask;
+
 // Everything a tile needs to trace one frame; read-only while tracing.
 class FrameTracer {
  public:
   FrameTracer(RTCDevice device, const SurfaceMesh& mesh, const Look& look, const Texture& texture)
-      : mesh_(mesh), look_(look), texture_(texture), all_(device), opaque_(device), translucent_(device) {
+      : mesh_(mesh), look_(look), texture_(texture), scene_(device) {
     build(device);
   }
 
-  Vec3 trace(const Vec3& origin, const Vec3& dir, std::uint64_t key) const {
-    Vec3 colour = Vec3::Zero();
-    float throughput = 1.0f;
-    float tnear = 0.0f;
-    for (int layer = 0; layer < kMaxLayersCrossed; ++layer) {
-      RTCRayHit rh = make_ray(origin, dir, tnear);
-      RTCIntersectContext ctx;
-      rtcInitIntersectContext(&ctx);
-      rtcIntersect1(all_.scene, &ctx, &rh);
-      if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return colour + throughput * look_.background;
-      const std::uint32_t tri = rh.hit.primID;
-      const float alpha = mesh_.opacity[tri];
-      const bool entering = tri_normal_[tri].dot(dir) < 0.0f;
-      if (alpha >= 1.0f) return colour + throughput * shade(rh, origin, dir, key);
-      if (entering) {  // a peeled skin: its own colour, then what is behind it
-        colour += throughput * alpha * shade(rh, origin, dir, key);
-        throughput *= 1.0f - alpha;
-        if (throughput < 1.0f / 1024.0f) return colour;
-      }
-      tnear = rh.ray.tfar + eps_;
+  // A surface point's shading up to the shadow ray: colour = albedo * (intensity *
+  // weight * visibility + sky), with visibility asked along `to_light` from `shadow_from`
+  // when `weight` > 0.
+  struct Shading {
+    Vec3 albedo, shadow_from, to_light;
+    float weight = 0.0f, sky = 0.0f;
+    Vec3 finish(float intensity, float visible) const { return albedo * (intensity * (weight * visible) + sky); }
+  };
+
+  // The colours of up to kPacket primary rays from one origin: out[i] for rays.dir[i].
+  // Rays go to Embree as packets, layer by layer: each round finds the next surface of every
+  // ray still going, shades it (one packet of shadow rays) and lets the ray on through a
+  // peeled skin. Which rays share a packet is fixed by the caller, so the result does not
+  // depend on the thread count.
+  void trace_packet(const Vec3& origin, const PacketRays& rays, Vec3* out) const {
+    std::array<float, kPacket> throughput, tnear;
+    std::array<bool, kPacket> going;
+    for (int i = 0; i < kPacket; ++i) {
+      if (i < rays.count) out[i] = Vec3::Zero();
+      throughput[std::size_t(i)] = 1.0f;
+      tnear[std::size_t(i)] = 0.0f;
+      going[std::size_t(i)] = i < rays.count;
     }
-    return colour;
+    for (int layer = 0; layer < kMaxLayersCrossed; ++layer) {
+      Packet p;
+      for (int i = 0; i < kPacket; ++i)
+        if (going[std::size_t(i)]) p.add(i, origin, rays.dir[std::size_t(i)], tnear[std::size_t(i)], kAnyMask);
+      if (!p.any) return;
+      p.intersect(scene_.scene, RTC_INTERSECT_CONTEXT_FLAG_COHERENT);
+      // Surfaces seen in this round, each with the share of the pixel it gets.
+      std::array<Shading, kPacket> seen;
+      std::array<float, kPacket> share{};
+      for (int i = 0; i < kPacket; ++i) {
+        if (!p.valid[i]) continue;
+        const auto li = std::size_t(i);
+        const Vec3& dir = rays.dir[li];
+        if (p.rh.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID) {
+          out[i] += throughput[li] * look_.background;
+          going[li] = false;
+          continue;
+        }
+        const std::uint32_t tri = triangle(p.rh.hit.geomID[i], p.rh.hit.primID[i]);
+        const float alpha = mesh_.opacity[tri];
+        const bool entering = tri_normal_[tri].dot(dir) < 0.0f;
+        if (alpha >= 1.0f || entering) {
+          seen[li] = prepare(tri, p.rh.hit.u[i], p.rh.hit.v[i], p.rh.ray.tfar[i], origin, dir, rays.key[li]);
+          share[li] = alpha >= 1.0f ? throughput[li] : throughput[li] * alpha;
+        }
+        if (alpha >= 1.0f) {
+          going[li] = false;
+        } else if (entering) {  // a peeled skin: its own colour, then what is behind it
+          throughput[li] *= 1.0f - alpha;
+          if (throughput[li] < 1.0f / 1024.0f) going[li] = false;
+        }
+        tnear[li] = p.rh.ray.tfar[i] + eps_;
+      }
+      std::array<float, kPacket> visible{};
+      visibility(seen, share, visible);
+      for (int i = 0; i < kPacket; ++i) {
+        const auto li = std::size_t(i);
+        if (share[li] > 0.0f) out[i] += share[li] * seen[li].finish(look_.intensity, visible[li]);
+      }
+    }
   }
 
  private:
+  // One Embree packet of rays: lane i is in use when valid[i].
+  struct Packet {
+    alignas(64) int valid[kPacket] = {};
+    alignas(64) RTCRayHit16 rh;
+    bool any = false;
+
+    Packet() {
+      for (int i = 0; i < kPacket; ++i) {
+        set_lane(rh.ray, i, Vec3::Zero(), Vec3(0, 0, 1), 0.0f, 0u);
+        rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+      }
+    }
+    void add(int i, const Vec3& o, const Vec3& d, float tnear, unsigned mask) {
+      valid[i] = -1;
+      any = true;
+      set_lane(rh.ray, i, o, d, tnear, mask);
+    }
+    void intersect(RTCScene scene, RTCIntersectContextFlags flags) {
+      RTCIntersectContext ctx;
+      rtcInitIntersectContext(&ctx);
+      ctx.flags = flags;
+      rtcIntersect16(valid, scene, &ctx, &rh);
+    }
+    void occluded(RTCScene scene) {
+      RTCIntersectContext ctx;
+      rtcInitIntersectContext(&ctx);
+      rtcOccluded16(valid, scene, &ctx, &rh.ray);
+    }
+  };
+
+  // visible[i]: how much of the light reaches seen[i] (lanes with share[i] > 0 and a shadow
+  // ray to cast): 0 behind anything opaque, reduced by every peeled skin the shadow ray
+  // passes into. Without skins one any-hit packet answers it; with skins the hits are walked
+  // in order, a closest-hit packet per round.
+  void visibility(const std::array<Shading, kPacket>& seen, const std::array<float, kPacket>& share,
+                  std::array<float, kPacket>& visible) const {
+    std::array<float, kPacket> tnear{};
+    Packet p;
+    for (int i = 0; i < kPacket; ++i) {
+      const auto li = std::size_t(i);
+      visible[li] = 1.0f;
+      if (share[li] > 0.0f && seen[li].weight > 0.0f)
+        p.add(i, seen[li].shadow_from, seen[li].to_light, 0.0f, ids_[1].empty() ? kOpaqueMask : kAnyMask);
+    }
+    if (!p.any) return;
+    if (ids_[1].empty()) {
+      p.occluded(scene_.scene);
+      for (int i = 0; i < kPacket; ++i)
+        if (p.valid[i] && p.rh.ray.tfar[i] < 0.0f) visible[std::size_t(i)] = 0.0f;
+      return;
+    }
+    for (int layer = 0; layer < kMaxLayersCrossed && p.any; ++layer) {
+      p.intersect(scene_.scene, RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT);
+      Packet next;
+      for (int i = 0; i < kPacket; ++i) {
+        const auto li = std::size_t(i);
+        if (!p.valid[i] || p.rh.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID) continue;
+        if (p.rh.hit.geomID[i] == 0) {
+          visible[li] = 0.0f;
+          continue;
+        }
+        const std::uint32_t tri = triangle(1, p.rh.hit.primID[i]);
+        if (tri_normal_[tri].dot(seen[li].to_light) < 0.0f) visible[li] *= 1.0f - mesh_.opacity[tri];
+        if (visible[li] < 1.0f / 1024.0f) {
+          visible[li] = 0.0f;
+          continue;
+        }
+        tnear[li] = p.rh.ray.tfar[i] + eps_;
+        next.add(i, seen[li].shadow_from, seen[li].to_light, tnear[li], kAnyMask);
+      }
+      p = next;
+    }
+  }
+
+  static void set_lane(RTCRay16& r, int i, const Vec3& o, const Vec3& d, float tnear, unsigned mask) {
+    r.org_x[i] = o.x(); r.org_y[i] = o.y(); r.org_z[i] = o.z();
+    r.dir_x[i] = d.x(); r.dir_y[i] = d.y(); r.dir_z[i] = d.z();
+    r.tnear[i] = tnear;
+    r.tfar[i] = std::numeric_limits<float>::infinity();
+    r.mask[i] = mask;
+    r.time[i] = 0.0f;
+    r.flags[i] = 0;
+    r.id[i] = 0;
+  }
+
   void build(RTCDevice device) {
     const std::size_t nv = mesh_.vertex_count(), nt = mesh_.triangle_count();
     tri_normal_.resize(nt);
-    std::vector<std::uint32_t> all(nt);
     for (std::uint32_t t = 0; t < nt; ++t) {
       const auto& v = mesh_.triangles[t];
       const Vec3 a = vec(mesh_.position[v[0]]), b = vec(mesh_.position[v[1]]), c = vec(mesh_.position[v[2]]);
       const Vec3 n = (b - a).cross(c - a);
       const float len = n.norm();
       tri_normal_[t] = len > 0.0f ? Vec3(n / len) : Vec3(0, 0, 1);
-      all[t] = t;
-      (mesh_.opacity[t] < 1.0f ? translucent_ids_ : opaque_ids_).push_back(t);
+      (mesh_.opacity[t] < 1.0f ? ids_[1] : ids_[0]).push_back(t);
     }
     float extent = 0.0f;
     for (const auto& p : mesh_.position) extent = std::max({extent, std::abs(p[0]), std::abs(p[1]), std::abs(p[2])});
     eps_ = std::max(1e-4f, 2e-5f * extent);
-    // One copy of the vertices for all three scenes; Embree reads up to 16 bytes at a time,
+    // One copy of the vertices for both geometries; Embree reads up to 16 bytes at a time,
     // hence the padding.
     vertices_.resize(3 * nv + 4, 0.0f);
     for (std::size_t i = 0; i < nv; ++i)
       for (std::size_t c = 0; c < 3; ++c) vertices_[3 * i + c] = mesh_.position[i][c];
-    attach(device, all_, all);
-    attach(device, opaque_, opaque_ids_);
-    attach(device, translucent_, translucent_ids_);
-  }
-
-  // Puts the listed triangles into `scene` and builds it; primitive p is triangle tris[p].
-  void attach(RTCDevice device, EmbreeScene& scene, const std::vector<std::uint32_t>& tris) {
-    if (!tris.empty()) {
-      RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-      rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, vertices_.data(), 0,
-                                 3 * sizeof(float), mesh_.vertex_count());
-      auto* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                                                3 * sizeof(unsigned), tris.size()));
-      check_device(device, "allocating geometry");
-      for (std::size_t p = 0; p < tris.size(); ++p)
-        for (std::size_t c = 0; c < 3; ++c) ib[3 * p + c] = mesh_.triangles[tris[p]][c];
-      rtcCommitGeometry(geom);
-      rtcAttachGeometry(scene.scene, geom);
-      rtcReleaseGeometry(geom);
-    }
+    attach(device, 0, kOpaqueMask);
+    attach(device, 1, kSkinMask);
     // Robust: no shortcuts that let rays slip between triangles sharing an edge.
-    rtcSetSceneFlags(scene.scene, RTC_SCENE_FLAG_ROBUST);
-    rtcSetSceneBuildQuality(scene.scene, RTC_BUILD_QUALITY_MEDIUM);
-    rtcCommitScene(scene.scene);
+    rtcSetSceneFlags(scene_.scene, RTC_SCENE_FLAG_ROBUST);
+    rtcSetSceneBuildQuality(scene_.scene, RTC_BUILD_QUALITY_MEDIUM);
+    rtcCommitScene(scene_.scene);
     check_device(device, "building the scene");
   }
 
-  static RTCRayHit make_ray(const Vec3& o, const Vec3& d, float tnear) {
-    RTCRayHit rh{};
-    rh.ray.org_x = o.x(); rh.ray.org_y = o.y(); rh.ray.org_z = o.z();
-    rh.ray.dir_x = d.x(); rh.ray.dir_y = d.y(); rh.ray.dir_z = d.z();
-    rh.ray.tnear = tnear;
-    rh.ray.tfar = std::numeric_limits<float>::infinity();
-    rh.ray.mask = 0xFFFFFFFFu;
-    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-    return rh;
+  // Puts the triangles ids_[g] into the scene as geometry g; its primitive p is triangle
+  // ids_[g][p].
+  void attach(RTCDevice device, unsigned g, unsigned mask) {
+    const std::vector<std::uint32_t>& tris = ids_[g];
+    if (tris.empty()) return;
+    RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, vertices_.data(), 0,
+                               3 * sizeof(float), mesh_.vertex_count());
+    auto* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                              3 * sizeof(unsigned), tris.size()));
+    check_device(device, "allocating geometry");
+    for (std::size_t p = 0; p < tris.size(); ++p)
+      for (std::size_t c = 0; c < 3; ++c) ib[3 * p + c] = mesh_.triangles[tris[p]][c];
+    rtcSetGeometryMask(geom, mask);
+    rtcCommitGeometry(geom);
+    rtcAttachGeometryByID(scene_.scene, geom, g);
+    rtcReleaseGeometry(geom);
   }
 
-  // How much of the light reaches `origin` along `dir`: 0 behind anything opaque, reduced by
-  // every peeled skin the shadow ray passes into.
-  float visibility(const Vec3& origin, const Vec3& dir) const {
-    RTCIntersectContext ctx;
-    rtcInitIntersectContext(&ctx);
-    RTCRay ray = make_ray(origin, dir, 0.0f).ray;
-    rtcOccluded1(opaque_.scene, &ctx, &ray);
-    if (ray.tfar < 0.0f) return 0.0f;
-    float transmitted = 1.0f, tnear = 0.0f;
-    for (int layer = 0; layer < kMaxLayersCrossed && !translucent_ids_.empty(); ++layer) {
-      RTCRayHit rh = make_ray(origin, dir, tnear);
-      rtcIntersect1(translucent_.scene, &ctx, &rh);
-      if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return transmitted;
-      const std::uint32_t tri = translucent_ids_[rh.hit.primID];
-      if (tri_normal_[tri].dot(dir) < 0.0f) transmitted *= 1.0f - mesh_.opacity[tri];
-      if (transmitted < 1.0f / 1024.0f) return 0.0f;
-      tnear = rh.ray.tfar + eps_;
-    }
-    return transmitted;
-  }
+  std::uint32_t triangle(unsigned geom, unsigned prim) const { return ids_[geom][prim]; }
 
   Vec3 albedo(std::uint32_t tri, float u, float v) const {
     const float shade = mesh_.shade[tri];
@@ -287,30 +393,33 @@ class FrameTracer {
     return (look_.to_light + r * (std::cos(phi) * look_.light_u + std::sin(phi) * look_.light_v)).normalized();
   }
 
-  Vec3 shade(const RTCRayHit& rh, const Vec3& origin, const Vec3& dir, std::uint64_t key) const {
-    const std::uint32_t tri = rh.hit.primID;
-    const Vec3 point = origin + rh.ray.tfar * dir;
+  Shading prepare(std::uint32_t tri, float u, float v, float t, const Vec3& origin, const Vec3& dir,
+                  std::uint64_t key) const {
+    const Vec3 point = origin + t * dir;
     Vec3 ng = tri_normal_[tri];
-    Vec3 n = shading_normal(tri, rh.hit.u, rh.hit.v, ng);
+    Vec3 n = shading_normal(tri, u, v, ng);
     if (ng.dot(dir) > 0.0f) {  // seen from behind: light the side we see
       ng = -ng;
       n = -n;
     }
-    const Vec3 to_light = light_direction(key);
-    const float facing = n.dot(to_light);
+    Shading s;
+    s.to_light = light_direction(key);
+    const float facing = n.dot(s.to_light);
     const float alpha = mesh_.opacity[tri];
     // Loose fibres scatter light round themselves: "wrapped" diffuse and a fuller share of
     // the sky keep a torn edge paper-white instead of grey.
     const bool fibre = mesh_.material[tri] == Material::Fibre;
     const float lit = fibre ? (facing + kFibreWrap) / (1.0f + kFibreWrap) : facing;
-    float direct = 0.0f;
-    if (lit > 0.0f && (fibre || ng.dot(to_light) > 0.0f)) {
-      direct = lit * visibility(point + eps_ * ng, to_light);
+    if (lit > 0.0f && (fibre || ng.dot(s.to_light) > 0.0f)) {
+      s.weight = lit;
+      s.shadow_from = point + eps_ * ng;
     } else if (alpha < 1.0f && facing < 0.0f) {  // light through a thin skin from behind
-      direct = -facing * 0.8f * (1.0f - alpha) * visibility(point - eps_ * ng, to_light);
+      s.weight = -facing * 0.8f * (1.0f - alpha);
+      s.shadow_from = point - eps_ * ng;
     }
-    const float sky = look_.ambient * (fibre ? 0.85f : 0.55f + 0.45f * std::max(0.0f, n.z()));
-    return albedo(tri, rh.hit.u, rh.hit.v) * (look_.intensity * direct + sky);
+    s.sky = look_.ambient * (fibre ? 0.85f : 0.55f + 0.45f * std::max(0.0f, n.z()));
+    s.albedo = albedo(tri, u, v);
+    return s;
   }
 
   const SurfaceMesh& mesh_;
@@ -318,10 +427,8 @@ class FrameTracer {
   const Texture& texture_;
   std::vector<float> vertices_;
   std::vector<Vec3> tri_normal_;
-  std::vector<std::uint32_t> opaque_ids_, translucent_ids_;
-  // Primary rays see everything; shadow rays first ask whether anything opaque is in the
-  // way (any hit, the cheap query) and only then sum the skins they pass through.
-  EmbreeScene all_, opaque_, translucent_;
+  std::array<std::vector<std::uint32_t>, 2> ids_;  // triangles of geometry 0 (opaque) and 1 (skins)
+  EmbreeScene scene_;
   float eps_ = 1e-4f;
 };
 
@@ -342,12 +449,16 @@ class PixelSampler {
       : eye_(vec(c.position)), fwd_(vec(c.forward)), right_(vec(c.right)), up_(vec(c.up)),
         ty_(c.tan_half_fov_y), tx_(c.tan_half_fov_y * c.aspect), width_(width), height_(height), samples_(samples) {}
 
-  Vec3 trace(const FrameTracer& tracer, int x, int y, int k) const {
+  const Vec3& eye() const { return eye_; }
+
+  // Adds sample k of pixel (x, y) to a packet.
+  void add(PacketRays& rays, int x, int y, int k) const {
     const auto off = subpixel(x, y, k, samples_);
     const float ndc_x = (2.0f * (float(x) + off[0]) / float(width_) - 1.0f) * tx_;
     const float ndc_y = (1.0f - 2.0f * (float(y) + off[1]) / float(height_)) * ty_;
-    const Vec3 dir = (fwd_ + ndc_x * right_ + ndc_y * up_).normalized();
-    return tracer.trace(eye_, dir, hash_key(std::uint64_t(x), std::uint64_t(y), std::uint64_t(k)));
+    const auto i = std::size_t(rays.count++);
+    rays.dir[i] = (fwd_ + ndc_x * right_ + ndc_y * up_).normalized();
+    rays.key[i] = hash_key(std::uint64_t(x), std::uint64_t(y), std::uint64_t(k));
   }
 
  private:
@@ -360,15 +471,26 @@ std::size_t tile_count(int width, int height) {
   return std::size_t((width + kTile - 1) / kTile) * std::size_t((height + kTile - 1) / kTile);
 }
 
-// Calls pixel(x, y) for every pixel, tiles in parallel (each pixel exactly once).
-template <class Pixel>
-void for_each_tile(int width, int height, const Pixel& pixel) {
+// Calls tile(x0, y0, x1, y1) for every tile, in parallel.
+template <class Tile>
+void for_each_tile(int width, int height, const Tile& tile) {
   const int tiles_x = (width + kTile - 1) / kTile;
-  parallel_chunks(tile_count(width, height), 1, [&](std::size_t tile, std::size_t, std::size_t) {
-    const int x0 = int(tile % std::size_t(tiles_x)) * kTile, y0 = int(tile / std::size_t(tiles_x)) * kTile;
-    for (int y = y0; y < std::min(y0 + kTile, height); ++y)
-      for (int x = x0; x < std::min(x0 + kTile, width); ++x) pixel(x, y);
+  parallel_chunks(tile_count(width, height), 1, [&](std::size_t t, std::size_t, std::size_t) {
+    const int x0 = int(t % std::size_t(tiles_x)) * kTile, y0 = int(t / std::size_t(tiles_x)) * kTile;
+    tile(x0, y0, std::min(x0 + kTile, width), std::min(y0 + kTile, height));
   });
+}
+
+// Calls pixel(x, y) for the pixels of a tile, 4 x 4 blocks in turn: consecutive pixels are
+// close together, so the rays of a packet stay coherent.
+constexpr int kBlock = 4;
+static_assert(kBlock * kBlock == kPacket && kTile % kBlock == 0);
+template <class Pixel>
+void for_each_pixel_by_block(int x0, int y0, int x1, int y1, const Pixel& pixel) {
+  for (int by = y0; by < y1; by += kBlock)
+    for (int bx = x0; bx < x1; bx += kBlock)
+      for (int y = by; y < std::min(by + kBlock, y1); ++y)
+        for (int x = bx; x < std::min(bx + kBlock, x1); ++x) pixel(x, y);
 }
 
 // Whether a pixel's first sample differs visibly from one of its four neighbours'.
@@ -415,22 +537,63 @@ Image Renderer::draw(const SurfaceMesh& mesh, const Camera& camera) const {
   // Pass 1: one ray per pixel. Pass 2: the remaining samples, only where a pixel differs
   // from a neighbour (edges, print detail, shadow boundaries); flat areas are already
   // converged. Both passes read only pass 1's results, so the choice is deterministic.
+  // Rays go out in packets of consecutive samples in a tile's block order.
   std::vector<Vec3> first(pixels);
-  for_each_tile(s.width, s.height, [&](int x, int y) {
-    first[std::size_t(y) * std::size_t(s.width) + std::size_t(x)] = sampler.trace(tracer, x, y, 0);
+  const auto index = [&](int x, int y) { return std::size_t(y) * std::size_t(s.width) + std::size_t(x); };
+  for_each_tile(s.width, s.height, [&](int x0, int y0, int x1, int y1) {
+    PacketRays rays;
+    std::array<std::size_t, kPacket> dest{};
+    std::array<Vec3, kPacket> out;
+    auto flush = [&] {
+      tracer.trace_packet(sampler.eye(), rays, out.data());
+      for (int i = 0; i < rays.count; ++i) first[dest[std::size_t(i)]] = out[std::size_t(i)];
+      rays.count = 0;
+    };
+    for_each_pixel_by_block(x0, y0, x1, y1, [&](int x, int y) {
+      dest[std::size_t(rays.count)] = index(x, y);
+      sampler.add(rays, x, y, 0);
+      if (rays.count == kPacket) flush();
+    });
+    if (rays.count > 0) flush();
   });
   Image image(s.width, s.height);
   const float exposure = impl_->look.exposure;
   const SrgbEncoder& encode = impl_->encode;
-  for_each_tile(s.width, s.height, [&](int x, int y) {
-    const std::size_t i = std::size_t(y) * std::size_t(s.width) + std::size_t(x);
-    Vec3 colour = first[i];
-    if (s.samples > 1 && differs_from_neighbours(first, s.width, s.height, x, y)) {
-      for (int k = 1; k < s.samples; ++k) colour += sampler.trace(tracer, x, y, k);
+  for_each_tile(s.width, s.height, [&](int x0, int y0, int x1, int y1) {
+    // The extra samples of this tile's pixels that need them, k = 1, 2, ... per pixel.
+    std::vector<std::size_t> pixel_of;
+    std::vector<Vec3> sample;
+    PacketRays rays;
+    auto flush = [&] {
+      sample.resize(sample.size() + std::size_t(rays.count));
+      tracer.trace_packet(sampler.eye(), rays, sample.data() + sample.size() - std::size_t(rays.count));
+      rays.count = 0;
+    };
+    if (s.samples > 1)
+      for_each_pixel_by_block(x0, y0, x1, y1, [&](int x, int y) {
+        if (!differs_from_neighbours(first, s.width, s.height, x, y)) return;
+        for (int k = 1; k < s.samples; ++k) {
+          pixel_of.push_back(index(x, y));
+          sampler.add(rays, x, y, k);
+          if (rays.count == kPacket) flush();
+        }
+      });
+    if (rays.count > 0) flush();
+    for (int y = y0; y < y1; ++y)
+      for (int x = x0; x < x1; ++x) {
+        const Vec3& colour = first[index(x, y)];
+        std::uint8_t* p = image.pixel(x, y);
+        for (int c = 0; c < 3; ++c) p[c] = encode(colour[c] * exposure);
+      }
+    // Pixels with extra samples (overwritten): their mean, summed in sample order.
+    for (std::size_t j = 0; j < pixel_of.size();) {
+      const std::size_t i = pixel_of[j];
+      Vec3 colour = first[i];
+      for (; j < pixel_of.size() && pixel_of[j] == i; ++j) colour += sample[j];
       colour /= float(s.samples);
+      std::uint8_t* p = image.rgb.data() + 3 * i;
+      for (int c = 0; c < 3; ++c) p[c] = encode(colour[c] * exposure);
     }
-    std::uint8_t* p = image.pixel(x, y);
-    for (int c = 0; c < 3; ++c) p[c] = encode(colour[c] * exposure);
   });
   return image;
 }

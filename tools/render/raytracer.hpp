@@ -2,9 +2,12 @@
 //
 // One frame: the world's surface mesh (surface.hpp: print, paper, fibres, peeled skins) goes
 // into a fresh Embree scene; the image is cut into 32 x 32 pixel tiles that are traced in
-// parallel (kernels/parallel.hpp: TBB, fixed chunks). Each pixel is independent of every
-// other, and every "random" number (sub-pixel position, point on the light) is hashed from
-// (pixel, sample), so a frame has the same bytes on any number of threads.
+// parallel (kernels/parallel.hpp: TBB, fixed chunks). Within a tile, rays go to Embree as
+// packets of 16 (4 x 4 pixel blocks; shadow rays of the same lanes as one packet), layer by
+// layer through peeled skins. Which rays share a packet depends only on the tile, and every
+// "random" number (sub-pixel position, point on the light) is hashed from (pixel, sample),
+// so a frame has the same bytes on any number of threads. Opaque triangles and skins are
+// two geometries of one scene, told apart by ray masks.
 //
 // Shading: a directional key light with soft shadows (shadow rays towards a jittered point
 // of the light's disc), a sky term brighter from above, Lambert surfaces in linear light,
