@@ -197,7 +197,7 @@ TEST_CASE("sweep rows do not depend on --jobs or --threads", "[sweep][cli]") {
   CHECK(nlohmann::json::parse(read_text(dir / "a/sweep.json"))["rows"].size() == 4);
 }
 
-TEST_CASE("--collect fails naming the missing points, and refuses another sweep's point files", "[sweep][cli]") {
+TEST_CASE("sweep --collect fails naming the missing points, and refuses another sweep's point files", "[sweep][cli]") {
   const fs::path dir = test_dir("collect_missing");
   const fs::path file = write_sweep(dir, "seeds = [1, 2]\n" + kTwoPoints);
   const fs::path out = dir / "out";
