@@ -90,7 +90,7 @@ material.block_width = [1, 2, 3]
   CHECK(io::resolve_point(s, s.points[11]).scene.material.block_width == 3);
 }
 
-TEST_CASE("[[point]] tables are points in file order; their keys are the columns", "[sweep]") {
+TEST_CASE("sweep point tables: one point per table in file order, their keys are the columns", "[sweep]") {
   const fs::path dir = test_dir("point_tables");
   const fs::path file = write_sweep(dir, R"(
 [[point]]
