@@ -38,6 +38,27 @@ void add_checkpoint_options(CLI::App& cmd, CheckpointOptions& o) {
       ->default_val(3);
 }
 
+void add_sweep_options(CLI::App& cmd, SweepOptions& o) {
+  cmd.add_option("sweep_file", o.sweep_file, "Sweep file (TOML): base scene, seeds, [set], [grid] or [[point]]")
+      ->required();
+  cmd.add_option("--out", o.out_dir, "Output directory: points/, sweep.csv, sweep.json, plots/")
+      ->type_name("DIR");
+  cmd.add_option("--index", o.index, "Run point I only and write DIR/points/point_I.json (a job-array task)")
+      ->type_name("I");
+  cmd.add_flag("--count", o.count, "Print the number of points and exit");
+  cmd.add_option("--collect", o.collect_dir,
+                 "Merge DIR/points/*.json into DIR/sweep.csv, sweep.json and plots/; fails naming missing points")
+      ->type_name("DIR");
+  cmd.add_option("--jobs,-j", o.jobs, "Points run at a time (0: hardware threads / --threads)")
+      ->check(CLI::Range(0, 4096))
+      ->default_val(0);
+  cmd.add_option("--threads", o.threads,
+                 "Worker threads per point (0: 1 for a whole sweep, all hardware threads with --index)")
+      ->check(CLI::Range(0, 4096))
+      ->default_val(0);
+  cmd.add_flag("--quiet,-q", o.quiet, "No progress lines");
+}
+
 }  // namespace
 
 }  // namespace papertear::cli
@@ -102,6 +123,12 @@ int main(int argc, char** argv) {
       ->default_val(0);
   calibrate_cmd->add_flag("--quiet,-q", calibrate.quiet, "Print only errors and the table");
 
+  SweepOptions sweep;
+  CLI::App* sweep_cmd = app.add_subcommand(
+      "sweep", "Run a parameter study: a grid or list of scene overrides x seeds; one row per run in "
+               "DIR/sweep.csv and DIR/sweep.json, plots in DIR/plots (docs/sweeps.md)");
+  add_sweep_options(*sweep_cmd, sweep);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -112,5 +139,6 @@ int main(int argc, char** argv) {
   if (run_cmd->parsed()) return run_command(run);
   if (resume_cmd->parsed()) return resume_command(resume);
   if (calibrate_cmd->parsed()) return calibrate_command(calibrate);
+  if (sweep_cmd->parsed()) return sweep_command(sweep);
   return info_command(info);
 }

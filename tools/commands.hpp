@@ -61,8 +61,21 @@ struct CalibrateOptions {
   bool quiet = false;
 };
 
+// `papertear sweep` (tools/sweep_command.cpp, format in tools/sweep_file.hpp).
+struct SweepOptions {
+  std::string sweep_file;
+  std::string out_dir;      // results: DIR/points/, sweep.csv, sweep.json, plots/
+  std::string collect_dir;  // --collect: merge DIR/points/ instead of running
+  std::optional<int> index; // run this point only
+  bool count = false;       // print the number of points
+  int jobs = 0;             // points at a time (0: hardware threads / threads per point)
+  int threads = 0;          // workers per point (0: 1 for a whole sweep, all for --index)
+  bool quiet = false;
+};
+
 int run_command(const RunOptions& options);
 int calibrate_command(const CalibrateOptions& options);
+int sweep_command(const SweepOptions& options);
 int resume_command(const ResumeOptions& options);
 int info_command(const SceneOptions& options);
 

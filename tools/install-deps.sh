@@ -23,6 +23,7 @@ PACKAGES=(
   libcli11-dev
   libtinygltf-dev
   nlohmann-json3-dev
+  gnuplot-nox            # sweep plots (papertear sweep); without it the sweep warns and skips them
 )
 
 is_installed() {
