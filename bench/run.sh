@@ -3,7 +3,7 @@
 # own build directory, runs the suite with repetitions and writes the medians and ratios to
 # bench/results/latest.json (Google Benchmark's JSON), latest-summary.json and latest.md.
 #
-#   bench/run.sh                 # 30x30x5, 90x90x5, 300x300x5, tearing and probes
+#   bench/run.sh                 # 30x30x5, 90x90x5, 300x300x5, tearing, render and probes
 #   HUGE=1 bench/run.sh          # also 1000x1000x5 (minutes of setup, ~1.3 GB)
 #   REPS=3 MIN_TIME=0.1 bench/run.sh
 #   FILTER='90x90x5' bench/run.sh  # any Google Benchmark regular expression
@@ -15,12 +15,12 @@ reps=${REPS:-5}
 min_time=${MIN_TIME:-0.2}
 sizes='30x30x5|90x90x5|300x300x5|30x20x3'
 if [[ "${HUGE:-0}" == 1 ]]; then sizes="$sizes|1000x1000x5"; fi
-filter=${FILTER:-"^(step|force|fracture)/[a-z]+/($sizes)/|^probe/"}
+filter=${FILTER:-"^(step|force|fracture)/[a-z]+/($sizes)/|^render/|^probe/"}
 out=$root/bench/results
 mkdir -p "$out"
 
 cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release \
-  -DPAPERTEAR_BUILD_TESTS=OFF -DPAPERTEAR_BUILD_TOOLS=OFF -DPAPERTEAR_BUILD_BENCH=ON >/dev/null
+  -DPAPERTEAR_BUILD_TESTS=OFF -DPAPERTEAR_BUILD_TOOLS=ON -DPAPERTEAR_BUILD_BENCH=ON >/dev/null  # tools: the renderer
 cmake --build "$build" --target papertear_bench -j 2
 
 "$build/bench/papertear_bench" --benchmark_filter="$filter" \

@@ -68,6 +68,28 @@ def ratios(cases):
                 floor = max(compute, memory)
                 out.append((f"step {size}, {t} threads: measured / floor ({floor * 1e3:.3f} ms, "
                             f"{'compute' if compute >= memory else 'memory'} bound)", step_case["seconds"] / floor, "vs floor"))
+    out += growth_and_render(cases)
+    return out
+
+
+def growth_and_render(cases):
+    """Cost growth per cell-step against 90x90x5, and frames against the 150 ms target."""
+    out = []
+    def counter(name, key):
+        return cases.get(name, {}).get("counters", {}).get(key)
+    for t in (1, 2):
+        base = counter(f"step/papertear/90x90x5/threads:{t}", "ns_per_cell_step")
+        for size in ("300x300x5", "1000x1000x5"):
+            big = counter(f"step/papertear/{size}/threads:{t}", "ns_per_cell_step")
+            if base and big:
+                out.append((f"ns per cell-step {size} / 90x90x5, {t} threads", big / base, "growth"))
+    for state in ("intact", "torn"):
+        one = cases.get(f"render/frame/{state}/90x90x5/threads:1", {}).get("seconds")
+        two = cases.get(f"render/frame/{state}/90x90x5/threads:2", {}).get("seconds")
+        if two:
+            out.append((f"render frame {state} 1280x720, 2 threads / 150 ms target", two / 0.150, "vs target"))
+        if one and two:
+            out.append((f"render/frame/{state}: 1 thread / 2 threads", one / two, "thread scaling"))
     return out
 
 
