@@ -3,8 +3,8 @@
 //  * a tensile test in the spirit of ISO 1924-2 / TAPPI T494: a strip pulled apart along its
 //    length until it breaks; the tensile strength is the peak force per unit width;
 //  * a tear test in the spirit of Elmendorf (ISO 1974 / TAPPI T414): a notched specimen torn
-//    out of plane (load.kind = "tear"); the tear resistance is the work the grips spend to
-//    tear it through, per unit of tear distance.
+//    out of plane (load.kind = "tear"); the tear resistance is the energy the tear consumed
+//    (the grips' work less what the pieces still hold), per unit of tear distance.
 // Each runs along (MD) and across (CD) the grain. Paper's convention: an MD tensile strip is
 // pulled along the grain; an MD tear runs along the grain.
 #pragma once
@@ -34,10 +34,11 @@ struct TensileResult {
 
 struct TearResult {
   double work = 0.0;           // the grips' work on the specimen until it came apart
+  double stored = 0.0;         // elastic + kinetic energy still in the pieces at that moment
   bool torn_through = false;   // the specimen came apart in two within the step limit
   double tear_distance = 0.0;  // from the notch tip to the far edge
   double torn_length = 0.0;    // torn in-plane faces of the top layer (wandering and fraying)
-  double resistance = 0.0;     // work per unit tear distance (0 if not torn through)
+  double resistance = 0.0;     // (work - stored) per unit tear distance (0 if not torn through)
   std::int64_t steps = 0;
 };
 
