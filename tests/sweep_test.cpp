@@ -145,6 +145,7 @@ TEST_CASE("A 2-point sweep runs, --index results merged by --collect equal the w
     CHECK(row.contains("edge_roughness"));
     CHECK(row.contains("peak_grip_force"));
     CHECK(row["peak_grip_force"].get<double>() >= row["grip_force"].get<double>());
+    CHECK(row["separation_roughness"].get<double>() >= 0.0);
     CHECK_THAT(csv, Contains(row["digest"].get<std::string>()));
   }
   // Two fibre lengths give two different sheets.
@@ -296,7 +297,8 @@ TEST_CASE("a sweep draws its plots with gnuplot, and without gnuplot still write
   const auto r = sweep(q(file) + " --out " + q(dir / "plotted"), dir);
   INFO(r.err);
   REQUIRE(r.code == 0);
-  for (const char* metric : {"edge_roughness", "peeled_area", "peak_grip_force", "torn_edge_length"}) {
+  for (const char* metric :
+       {"edge_roughness", "separation_roughness", "peeled_area", "peak_grip_force", "torn_edge_length"}) {
     const fs::path png = dir / "plotted/plots" / (std::string(metric) + "_vs_material.fiber_length.png");
     INFO(png);
     REQUIRE(fs::exists(png));

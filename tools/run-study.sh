@@ -9,7 +9,7 @@ bin=${PAPERTEAR:-build/release/tools/papertear}
 out=${OUT:-out/study}
 for study in fiber_length block_width interlayer; do
   "$bin" sweep "docs/study/$study.toml" --out "$out/$study" --quiet
-  for plot in "$out/$study"/plots/{edge_roughness,peeled_area,peak_grip_force}_vs_material.*.png; do
+  for plot in "$out/$study"/plots/{separation_roughness,peeled_area,peak_grip_force}_vs_material.*.png; do
     [[ -e "$plot" && "$plot" != *strain_surface* ]] || continue  # set equal to strain_layer
     name=$(basename "$plot")
     cp "$plot" "docs/study/${name/material./}"

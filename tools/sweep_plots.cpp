@@ -154,8 +154,8 @@ bool run_gnuplot(const std::filesystem::path& gnuplot, const std::string& script
 }  // namespace
 
 const std::vector<std::string>& headline_metrics() {
-  static const std::vector<std::string> metrics = {"edge_roughness", "peeled_area", "peak_grip_force",
-                                                   "torn_edge_length"};
+  static const std::vector<std::string> metrics = {"edge_roughness", "separation_roughness", "peeled_area",
+                                                   "peak_grip_force", "torn_edge_length"};
   return metrics;
 }
 

@@ -18,9 +18,9 @@ namespace {
 
 constexpr const char* kPointSchema = "papertear-sweep-point";
 // The metric columns in reading order (metrics_to_json sorts its keys).
-constexpr std::array<const char*, 12> kMetricOrder = {
+constexpr std::array<const char*, 13> kMetricOrder = {
     "splits_inplane", "splits_interlayer", "pieces", "torn_edge_length", "edge_roughness",
-    "peeled_area", "grip_force", "peak_grip_force", "kinetic_energy", "elastic_energy",
+    "separation_roughness", "peeled_area", "grip_force", "peak_grip_force", "kinetic_energy", "elastic_energy",
     "intact_blocks", "time"};
 // Missing point files named in an error before "and N more".
 constexpr std::size_t kNamedMissing = 10;
@@ -44,6 +44,16 @@ double peak_grip_force(const std::vector<Metrics>& frames) {
   double peak = frames.front().grip_force;
   for (const Metrics& m : frames) peak = std::max(peak, m.grip_force);
   return peak;
+}
+
+// The edge roughness of the first frame in which the sheet is in two or more pieces: the
+// tear as it was when it came apart. Fast cracks keep branching after that and the pieces
+// fragment, which makes the final roughness depend on which two pieces are largest at the
+// end; this one is the tear itself. 0 when the sheet never came apart.
+double separation_roughness(const std::vector<Metrics>& frames) {
+  for (const Metrics& m : frames)
+    if (m.pieces >= 2) return m.edge_roughness;
+  return 0.0;
 }
 
 std::string hash_hex(std::uint64_t h) { return digest_hex(h); }
@@ -123,6 +133,7 @@ Row point_row(const SweepDefinition& sweep, const SweepPoint& point, const Scene
   Row metrics = to_row(metrics_to_json(record.frames.back()));
   metrics.erase("step");  // the steps column says it
   metrics["peak_grip_force"] = peak_grip_force(record.frames);
+  metrics["separation_roughness"] = separation_roughness(record.frames);
   for (const char* key : kMetricOrder)
     if (metrics.contains(key)) {
       row[key] = metrics[key];

@@ -8,7 +8,7 @@ import csv
 import statistics
 import sys
 
-METRICS = ("edge_roughness", "peeled_area", "peak_grip_force", "splits_interlayer", "pieces")
+METRICS = ("separation_roughness", "peeled_area", "peak_grip_force", "splits_interlayer", "pieces")
 FIXED = {"index", "seed", "status", "error", "digest", "steps"}
 
 
