@@ -5,6 +5,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "core/lattice_builder.hpp"
 #include "core/solver.hpp"
 #include "kernels/parallel.hpp"
 
@@ -33,13 +34,8 @@ std::optional<Indenter> make_indenter(const World& w) {
   return ind;
 }
 
-// The speed ramps up linearly over ramp_time, as the grips' does (grip_ramp).
-double indenter_travel(const Indenter& ind, double t) {
-  t = std::max(0.0, t);
-  if (ind.ramp_time <= 0.0) return ind.speed * t;
-  if (t < ind.ramp_time) return ind.speed * t * t / (2.0 * ind.ramp_time);
-  return ind.speed * (t - 0.5 * ind.ramp_time);
-}
+// The speed ramps up linearly over ramp_time, as the grips' does.
+double indenter_travel(const Indenter& ind, double t) { return ramped_travel(ind.speed, ind.ramp_time, t); }
 
 IndenterPose indenter_pose(const Indenter& ind, double t) {
   const double ramp = ind.ramp_time <= 0.0 ? 1.0 : std::min(1.0, std::max(0.0, t) / ind.ramp_time);

@@ -41,6 +41,13 @@ float grip_ramp(const LoadParams& load, double t) {
   return float(std::max(0.0, t) / load.ramp_time);
 }
 
+double ramped_travel(double speed, double ramp_time, double t) {
+  t = std::max(0.0, t);
+  if (ramp_time <= 0.0) return speed * t;
+  if (t < ramp_time) return speed * t * t / (2.0 * ramp_time);
+  return speed * (t - 0.5 * ramp_time);
+}
+
 namespace {
 
 void place_nodes(World& w) {

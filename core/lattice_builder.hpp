@@ -30,5 +30,8 @@ inline constexpr double kTearSpread = 0.25;
 
 // Grip velocity at time t: full speed after the ramp, linear before it.
 float grip_ramp(const LoadParams& load, double t);
+// How far a load point moving at `speed`, ramped up linearly over `ramp_time` as grip_ramp
+// does, has travelled by time t (grip_ramp's integral): the grips' and the indenter's travel.
+double ramped_travel(double speed, double ramp_time, double t);
 
 }  // namespace papertear
