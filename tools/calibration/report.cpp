@@ -2,16 +2,11 @@
 
 #include <cmath>
 #include <cstdio>
-#include <numeric>
 
 #include <nlohmann/json.hpp>
 
 namespace papertear::calibration {
 namespace {
-
-double mean(const std::vector<double>& v) {
-  return v.empty() ? 0.0 : std::accumulate(v.begin(), v.end(), 0.0) / double(v.size());
-}
 
 // Sample standard deviation (0 for fewer than two seeds).
 double spread(const std::vector<double>& v) {

@@ -3,15 +3,12 @@
 #include <algorithm>
 #include <numeric>
 
+#include "core/lattice_builder.hpp"
 #include "core/simulation.hpp"
 #include "fracture/metrics.hpp"
 
 namespace papertear::calibration {
 namespace {
-
-double mean(const std::vector<double>& v) {
-  return v.empty() ? 0.0 : std::accumulate(v.begin(), v.end(), 0.0) / double(v.size());
-}
 
 Scene preset_scene(const std::string& preset, std::uint64_t seed) {
   Scene s;
@@ -24,6 +21,10 @@ Scene preset_scene(const std::string& preset, std::uint64_t seed) {
 }  // namespace
 
 const char* name(Direction d) { return d == Direction::MD ? "MD" : "CD"; }
+
+double mean(const std::vector<double>& v) {
+  return v.empty() ? 0.0 : std::accumulate(v.begin(), v.end(), 0.0) / double(v.size());
+}
 
 // A strip 4x longer than wide (ISO 1924-2 uses 15 mm x 180 mm; shorter keeps it cheap),
 // pulled along x slowly enough that the stress is nearly uniform along it. MD: the grain
@@ -76,8 +77,7 @@ TensileResult run_tensile(const Scene& scene, int threads) {
     if (f > r.peak_force) {
       r.peak_force = f;
       // Both grips move apart at the same speed: separation = 2 × each grip's travel.
-      const double travel = 2.0 * scene.load.speed * std::max(0.0, sim.time() - 0.5 * scene.load.ramp_time);
-      separation_at_peak = travel;
+      separation_at_peak = 2.0 * ramped_travel(scene.load.speed, scene.load.ramp_time, sim.time());
     }
     if (r.peak_force > 0.0 && f < 0.25 * r.peak_force) break;  // broken through
   }
@@ -112,9 +112,9 @@ TearResult run_tear(const Scene& scene, int threads) {
     }
   }
   r.steps = sim.steps_done();
-  const Energies e = sim.energies();
-  r.stored = e.elastic + e.kinetic;
-  r.torn_length = measure(sim.world()).torn_edge_length;
+  const Metrics end = measure(sim.world());
+  r.stored = end.elastic_energy + end.kinetic_energy;
+  r.torn_length = end.torn_edge_length;
   r.tear_distance = (d.ny - scene.load.notch) * d.hy;
   r.resistance = r.torn_through ? (r.work - r.stored) / r.tear_distance : 0.0;
   return r;

@@ -19,6 +19,8 @@ namespace papertear::calibration {
 enum class Direction { MD, CD };
 const char* name(Direction d);
 
+double mean(const std::vector<double>& values);  // 0 for none
+
 // Specimen sizes in cells: `standard` for the report, `quick` for tests.
 enum class Size { quick, standard };
 
