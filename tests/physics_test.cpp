@@ -15,6 +15,7 @@
 #include "core/lattice_builder.hpp"
 #include "core/simulation.hpp"
 #include "kernels/reference.hpp"
+#include "tests/random_state.hpp"
 #include "tests/spring_bounds.hpp"
 
 namespace pt = papertear;
@@ -128,15 +129,7 @@ double run_breathing(double amplitude, double dt, double end_time) {
 // ---------------------------------------------------------------------------------------
 // Helpers for lattices with random initial states.
 
-void perturb(pt::World& w, std::uint32_t seed, float dp, float dv) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
-  pt::NodeStore& n = w.nodes;
-  for (std::size_t i = 0; i < n.count; ++i) {
-    n.px[i] += dp * unit(rng); n.py[i] += dp * unit(rng); n.pz[i] += dp * unit(rng);
-    n.vx[i] = dv * unit(rng); n.vy[i] = dv * unit(rng); n.vz[i] = dv * unit(rng);
-  }
-}
+using papertear::testing::perturb;  // tests/random_state.hpp
 
 // The world a Simulation builds for a scene (lattice, fibre blocks, coarse springs), at rest.
 pt::World built_world(const pt::Scene& s) { return pt::Simulation(s, {.threads = 1}).world(); }

@@ -19,6 +19,7 @@
 #include "kernels/cell_forces.hpp"
 #include "kernels/coarse_forces.hpp"
 #include "kernels/reference.hpp"
+#include "tests/random_state.hpp"
 #include "tests/spring_bounds.hpp"
 
 namespace pt = papertear;
@@ -70,17 +71,7 @@ Deviation compare(const pt::Simulation& sim, const pt::ReferenceModel& ref) {
   return d;
 }
 
-// Random displacements and velocities on every node, so that every spring is stretched or
-// compressed and has a relative velocity (a resting lattice has zero force everywhere).
-void perturb(pt::World& w, std::uint32_t seed, float dp, float dv) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
-  pt::NodeStore& n = w.nodes;
-  for (std::size_t i = 0; i < n.count; ++i) {
-    n.px[i] += dp * unit(rng); n.py[i] += dp * unit(rng); n.pz[i] += dp * unit(rng);
-    n.vx[i] = dv * unit(rng); n.vy[i] = dv * unit(rng); n.vz[i] = dv * unit(rng);
-  }
-}
+using papertear::testing::perturb;  // tests/random_state.hpp
 
 // The world a Simulation builds for the scene (fibre blocks included), perturbed, with
 // per-cell stiffness factors in [0.7, 1.3] so that the kernels' scaling is exercised too.
