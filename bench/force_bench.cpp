@@ -28,17 +28,19 @@ struct ForceColumns {
   ForceOutputs outputs() { return {fx.data(), fy.data(), fz.data()}; }
 };
 
-CellForceInputs node_state_inputs(const World& w) {
+CellForceInputs node_state_inputs(const World& w, FineSprings& fine) {
+  build_fine_springs(w.topo, w.springs, fine);
   const NodeStore& n = w.nodes;
   return {n.px.data(), n.py.data(), n.pz.data(), n.vx.data(), n.vy.data(), n.vz.data(),
-          w.topo.cell_nodes.data(), w.topo.cell_scale.data(), &w.springs};
+          w.topo.cell_nodes.data(), w.topo.cell_scale.data(), &w.springs, &fine};
 }
 
 void force_papertear(benchmark::State& state, Case c) {
   Simulation sim(quiet_pull_scene(c.size), {.threads = 1});
   sim.step(kWarmupSteps);
   const World& world = sim.world();
-  const CellForceInputs in = node_state_inputs(world);
+  FineSprings fine;
+  const CellForceInputs in = node_state_inputs(world, fine);
   // Forces accumulate over iterations, as they would over colours; the values stay finite
   // and the work per iteration is the same.
   ForceColumns forces(world.nodes.count);

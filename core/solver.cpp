@@ -17,10 +17,33 @@ namespace {
 
 constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
 
-CellForceInputs stage_inputs(const World& w) {
+CellForceInputs stage_inputs(const World& w, const SolverScratch& scratch) {
   const IntegratorScratch& s = w.scratch;
-  return {s.sx.data(), s.sy.data(), s.sz.data(), s.svx.data(), s.svy.data(), s.svz.data(),
-          w.topo.cell_nodes.data(), w.topo.cell_scale.data(), &w.springs};
+  return {s.sx.data(),   s.sy.data(),   s.sz.data(), s.svx.data(), s.svy.data(), s.svz.data(), w.topo.cell_nodes.data(),
+          w.topo.cell_scale.data(), &w.springs, &scratch.fine};
+}
+
+// Brings the merged fine springs up to date with the topology. Fracture records every split
+// as an event and adds one node per split, so when the counts agree only the cells around
+// the new events' vertices can have changed; anything else (a new world, splits made
+// outside the fracture pass) rebuilds the table.
+void sync_fine_springs(const World& w, SolverScratch& scratch) {
+  const std::size_t cells = std::size_t(w.topo.dims.cells());
+  const bool incremental = scratch.fine_topology == w.topo.cell_nodes.data() && scratch.fine.cells == cells &&
+                           w.nodes.count >= scratch.fine_nodes && w.events.size() >= scratch.fine_events &&
+                           w.nodes.count - scratch.fine_nodes == w.events.size() - scratch.fine_events;
+  if (!incremental) {
+    prepare_fine_springs(w.topo, w.springs, scratch.fine);
+    parallel_chunks(cells, kCellChunk, [&](std::size_t b, std::size_t e, std::size_t) {
+      assign_fine_springs(b, e, w.topo, w.springs, scratch.fine);
+    });
+  } else {
+    for (std::size_t e = scratch.fine_events; e < w.events.size(); ++e)
+      update_fine_springs_at(w.topo, w.springs, w.nodes.vertex[w.events[e].node], scratch.fine);
+  }
+  scratch.fine_topology = w.topo.cell_nodes.data();
+  scratch.fine_nodes = w.nodes.count;
+  scratch.fine_events = w.events.size();
 }
 
 // Gripped nodes move at the grip's (ramped) velocity for the whole step: their acceleration
@@ -171,7 +194,8 @@ void add_fine_forces(const Topology& topo, const CellForceInputs& in, const Forc
 }
 
 void evaluate_forces(World& w, SolverScratch& scratch) {
-  const CellForceInputs in = stage_inputs(w);
+  sync_fine_springs(w, scratch);
+  const CellForceInputs in = stage_inputs(w, scratch);
   const ForceOutputs out = force_outputs(w);
   add_fine_and_block_forces(w, scratch, in, out, true);
   const BlockLattice& lattice = scratch.lattice;
@@ -186,7 +210,8 @@ void integrate_step(World& w, SolverScratch& scratch) {
   const std::size_t vertices = std::size_t(w.topo.dims.vertices());
   scratch.bad.assign(chunk_count(vertices, kVertexChunk) + chunk_count(w.nodes.count - fused_node_end(w), kNodeChunk),
                      kNone);
-  const CellForceInputs in = stage_inputs(w);
+  sync_fine_springs(w, scratch);
+  const CellForceInputs in = stage_inputs(w, scratch);
   const ForceOutputs out = force_outputs(w);
   // The indenter (pierce only) is where it is at each stage's time: t, t + dt/2 twice, t + dt.
   // Its push goes in first, while the force columns are still zero (the previous stage's

@@ -25,12 +25,18 @@
 
 #include "core/world.hpp"
 #include "kernels/coarse_forces.hpp"
+#include "kernels/fine_springs.hpp"
 
 namespace papertear {
 
 struct SolverScratch {
   BlockLattice lattice;  // built on first use, rebuilt when the block springs are
   std::vector<std::uint32_t> bad;  // per node chunk: the first node that blew up
+  // Built on first use; then, at the start of each step, updated around the nodes split
+  // since (the world's split events), or rebuilt if the topology changed any other way.
+  FineSprings fine;
+  const std::uint32_t* fine_topology = nullptr;  // the cell table it was built for
+  std::size_t fine_nodes = 0, fine_events = 0;   // node and event counts it has seen
 };
 
 // Chunk sizes (elements per task). Fixed numbers, never derived from the thread count.

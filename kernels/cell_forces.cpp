@@ -1,6 +1,7 @@
 #include "kernels/cell_forces.hpp"
 
 #include <type_traits>
+#include <utility>
 
 #include "kernels/lanes.hpp"
 
@@ -15,9 +16,10 @@
 namespace papertear {
 namespace {
 
-// The 28 springs of W cells at once, on corner values already in registers; adds each
-// spring's force into the corner sums f*. Every loader below feeds this one body, so a cell
-// gets the same operations in the same order whichever way its corners were fetched.
+// The springs in kSlots of W cells at once, on corner values already in registers; adds each
+// spring's force, times its lane's count (`count(slot)`, kernels/fine_springs.hpp), into the
+// corner sums f*. Every loader below feeds this one body, so a cell gets the same operations
+// in the same order whichever way its corners were fetched.
 template <class V>
 struct CellSprings {
   using T = lanes::Traits<V>;
@@ -25,32 +27,36 @@ struct CellSprings {
   // kUnitScale: every lane's cell factor s is exactly 1 (all cells of every scene the
   // library builds), so k = s * K is K bit for bit and the two multiplications per spring
   // are skipped.
-  template <bool kUnitScale = false>
-  static void run(const V (&x)[8], const V (&y)[8], const V (&z)[8], const V (&u)[8], const V (&v)[8],
-                  const V (&w)[8], const V& s, const SpringTable& tab, V (&fx)[8], V (&fy)[8], V (&fz)[8]) {
+  // Always inlined into its loader: called out of line, the corner values and sums would
+  // pass through memory.
+  template <std::uint32_t kSlots, bool kUnitScale, class Count>
+  [[gnu::always_inline]] static inline void run(const V (&x)[8], const V (&y)[8], const V (&z)[8], const V (&u)[8], const V (&v)[8],
+                  const V (&w)[8], const V& s, const SpringTable& tab, const Count& count, V (&fx)[8],
+                  V (&fy)[8], V (&fz)[8]) {
     const V one = T::broadcast(1.0f);
     for (int q = 0; q < 8; ++q) fx[q] = fy[q] = fz[q] = T::broadcast(0.0f);
-    // Fully unrolled, so that corner values and sums index registers, not a stack array.
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC unroll 28
-#elif defined(__clang__)
-#pragma unroll
-#endif
-    for (int i = 0; i < kSpringsPerCell; ++i) {
-      const int a = kSpringSlots[std::size_t(i)].a, b = kSpringSlots[std::size_t(i)].b;
-      const V dx = x[b] - x[a], dy = y[b] - y[a], dz = z[b] - z[a];
-      const V du = u[b] - u[a], dv = v[b] - v[a], dw = w[b] - w[a];
-      const V len = T::sqrt(dx * dx + dy * dy + dz * dz);
-      const V inv = one / len;
-      const V k = kUnitScale ? T::broadcast(tab.stiffness[std::size_t(i)]) : s * T::broadcast(tab.stiffness[std::size_t(i)]);
-      const V c = kUnitScale ? T::broadcast(tab.damping[std::size_t(i)]) : s * T::broadcast(tab.damping[std::size_t(i)]);
-      const V rate = (du * dx + dv * dy + dw * dz) * inv;  // Δv · d̂
-      const V mag = k * (len - T::broadcast(tab.rest[std::size_t(i)])) + c * rate;
-      const V g = mag * inv;
-      const V gx = g * dx, gy = g * dy, gz = g * dz;
-      fx[a] = fx[a] + gx; fy[a] = fy[a] + gy; fz[a] = fz[a] + gz;
-      fx[b] = fx[b] - gx; fy[b] = fy[b] - gy; fz[b] = fz[b] - gz;
-    }
+    // One instantiation per slot, so the loop is unrolled by construction and corner values
+    // and sums index registers, not a stack array.
+    auto spring = [&]<int I>() __attribute__((always_inline)) {
+      if constexpr (((kSlots >> I) & 1u) != 0) {
+        constexpr int a = kSpringSlots[std::size_t(I)].a, b = kSpringSlots[std::size_t(I)].b;
+        const V dx = x[b] - x[a], dy = y[b] - y[a], dz = z[b] - z[a];
+        const V du = u[b] - u[a], dv = v[b] - v[a], dw = w[b] - w[a];
+        const V len = T::sqrt(dx * dx + dy * dy + dz * dz);
+        const V inv = one / len;
+        const V k = kUnitScale ? T::broadcast(tab.stiffness[std::size_t(I)]) : s * T::broadcast(tab.stiffness[std::size_t(I)]);
+        const V c = kUnitScale ? T::broadcast(tab.damping[std::size_t(I)]) : s * T::broadcast(tab.damping[std::size_t(I)]);
+        const V rate = (du * dx + dv * dy + dw * dz) * inv;  // Δv · d̂
+        const V mag = k * (len - T::broadcast(tab.rest[std::size_t(I)])) + c * rate;
+        const V g = (mag * inv) * count(I);
+        const V gx = g * dx, gy = g * dy, gz = g * dz;
+        fx[a] = fx[a] + gx; fy[a] = fy[a] + gy; fz[a] = fz[a] + gz;
+        fx[b] = fx[b] - gx; fy[b] = fy[b] - gy; fz[b] = fz[b] - gz;
+      }
+    };
+    [&]<int... I>(std::integer_sequence<int, I...>) __attribute__((always_inline)) {
+      (spring.template operator()<I>(), ...);
+    }(std::make_integer_sequence<int, kSpringsPerCell>{});
   }
 };
 
@@ -67,10 +73,12 @@ struct CellLanes {
     alignas(64) float buf[6][8][W];
     alignas(64) std::uint32_t node[8][W];
     alignas(64) float scale[W];
+    alignas(64) float counts[kSpringsPerCell][W];
     const float* src[6] = {in.px, in.py, in.pz, in.vx, in.vy, in.vz};
     for (std::size_t l = 0; l < W; ++l) {
       const std::uint32_t c = cells[l];
       scale[l] = in.cell_scale[c];
+      for (int q = 0; q < kSpringsPerCell; ++q) counts[q][l] = float(in.fine->at(c, q));
       const std::uint32_t* corners = in.cell_nodes + std::size_t(c) * 8;
       for (int q = 0; q < 8; ++q) {
         const std::uint32_t n = corners[q];
@@ -84,7 +92,8 @@ struct CellLanes {
       x[q] = T::load(buf[0][q]); y[q] = T::load(buf[1][q]); z[q] = T::load(buf[2][q]);
       u[q] = T::load(buf[3][q]); v[q] = T::load(buf[4][q]); w[q] = T::load(buf[5][q]);
     }
-    CellSprings<V>::run(x, y, z, u, v, w, T::load(scale), *in.table, fx, fy, fz);
+    const auto count = [&](int slot) { return T::load(counts[slot]); };
+    CellSprings<V>::template run<kAllSlots, false>(x, y, z, u, v, w, T::load(scale), *in.table, count, fx, fy, fz);
     for (int q = 0; q < 8; ++q) {
       T::store(buf[0][q], fx[q]); T::store(buf[1][q], fy[q]); T::store(buf[2][q], fz[q]);
     }
@@ -164,6 +173,47 @@ struct RegularGroup {
     return true;
   }
 
+  // The lanes' counts of one slot: bytes cells[0] + 2l of the slot's row, widened to floats.
+  struct RowCounts {
+    const std::uint8_t* first;  // the slot-0 count of cells[0]
+    std::size_t stride;         // cells per slot row
+    V operator()(int slot) const {
+      const __m128i even_bytes = _mm_setr_epi8(0, 2, 4, 6, 8, 10, 12, 14, -1, -1, -1, -1, -1, -1, -1, -1);
+      const __m128i bytes = _mm_loadu_si128(reinterpret_cast<const __m128i*>(first + std::size_t(slot) * stride));
+      return _mm256_cvtepi32_ps(_mm256_cvtepu8_epi32(_mm_shuffle_epi8(bytes, even_bytes)));
+    }
+  };
+
+  // Runs the springs the group's cells own, picking the smallest slot set that covers them
+  // (a slot no lane owns would only add zeros): the 13 low slots for most groups, those
+  // plus the high-x or high-z side at the sheet's edges, all 28 near cracks.
+  [[gnu::always_inline]] static inline void springs(const std::uint32_t* cells, const V (&x)[8], const V (&y)[8], const V (&z)[8],
+                      const V (&u)[8], const V (&v)[8], const V (&w)[8], const CellForceInputs& in, V (&fx)[8],
+                      V (&fy)[8], V (&fz)[8]) {
+    alignas(32) float scale[8];
+    bool unit = true;
+    std::uint32_t owned = 0;
+    for (int l = 0; l < 8; ++l) {
+      scale[l] = in.cell_scale[cells[l]];
+      unit &= scale[l] == 1.0f;
+      owned |= in.fine->owned[cells[l]];
+    }
+    const V s = V::load_aligned(scale);
+    const RowCounts count{in.fine->count.data() + cells[0], in.fine->cells};
+    const SpringTable& tab = *in.table;
+    auto within = [owned](std::uint32_t slots) { return (owned & ~slots) == 0; };
+    if (!unit) CellSprings<V>::template run<kAllSlots, false>(x, y, z, u, v, w, s, tab, count, fx, fy, fz);
+    else if (within(kLowSlots)) CellSprings<V>::template run<kLowSlots, true>(x, y, z, u, v, w, s, tab, count, fx, fy, fz);
+    else if (within(kLowSlots | kHighXSlots))
+      CellSprings<V>::template run<kLowSlots | kHighXSlots, true>(x, y, z, u, v, w, s, tab, count, fx, fy, fz);
+    else if (within(kLowSlots | kHighZSlots))
+      CellSprings<V>::template run<kLowSlots | kHighZSlots, true>(x, y, z, u, v, w, s, tab, count, fx, fy, fz);
+    else if (within(kLowSlots | kHighXSlots | kHighZSlots | kHighXZSlots))
+      CellSprings<V>::template run<kLowSlots | kHighXSlots | kHighZSlots | kHighXZSlots, true>(x, y, z, u, v, w, s, tab,
+                                                                                               count, fx, fy, fz);
+    else CellSprings<V>::template run<kAllSlots, true>(x, y, z, u, v, w, s, tab, count, fx, fy, fz);
+  }
+
   static bool run(const std::uint32_t* cells, const CellForceInputs& in, const ForceOutputs& out,
                   std::size_t skip = 0) {
     std::uint32_t base[4];
@@ -178,16 +228,8 @@ struct RegularGroup {
         dst[f][2 * p] = even;
         dst[f][2 * p + 1] = odd;
       }
-    alignas(32) float scale[8];
-    bool unit = true;
-    for (int l = 0; l < 8; ++l) {
-      scale[l] = in.cell_scale[cells[l]];
-      unit &= scale[l] == 1.0f;
-    }
     V fx[8], fy[8], fz[8];
-    const V s = V::load_aligned(scale);
-    if (unit) CellSprings<V>::template run<true>(x, y, z, u, v, w, s, *in.table, fx, fy, fz);
-    else CellSprings<V>::run(x, y, z, u, v, w, s, *in.table, fx, fy, fz);
+    springs(cells, x, y, z, u, v, w, in, fx, fy, fz);
     float* dst_f[3] = {out.fx, out.fy, out.fz};
     const V* force[3] = {fx, fy, fz};
     for (int p = 0; p < 4; ++p)

@@ -11,21 +11,28 @@
 // colour order: the same bits on every thread count.
 //
 // Why cell-centric: a cell's 28 springs touch only its 8 corners, so the corners are loaded
-// once and the 28 springs are evaluated in registers (the spring loop is fully unrolled),
-// eight cells per AVX2 vector. Groups of 8 cells along a lattice row whose nodes are still
+// once and the springs are evaluated in registers (the spring loop is fully unrolled),
+// eight cells per AVX2 vector. Coincident springs of neighbouring cells are evaluated once,
+// by one of the cells, weighted by their number (kernels/fine_springs.hpp): a group whose
+// cells own only the 13 low slots (most groups) runs 13 springs instead of 28. Groups of 8 cells along a lattice row whose nodes are still
 // the row's consecutive nodes ("regular", every group before any split except where a group
 // straddles a row end) load each corner pair with two vector loads and a shuffle and add
 // their forces back the same way; other groups fetch corners with scalar loads into a small
 // aligned buffer (on the development machine hardware gathers were slower). Both paths
 // give each lane the same values and each node one addition, so the bits are the same.
 //
-// Force of one spring (a → b), Hooke plus damping along the spring:
-//   d = x_b - x_a,  L = |d|,  f_a = (k (L - L0) + c (Δv · d) / L) d / L,  f_b = -f_a.
+// Force of one spring (a → b), Hooke plus damping along the spring, times the number n of
+// springs it stands for:
+//   d = x_b - x_a,  L = |d|,  f_a = n ((k (L - L0) + c (Δv · d) / L) / L) d,  f_b = -f_a.
+// A slot with n = 0 in some lanes adds exact zeros there, which leaves a sum that started at
+// +0 bit for bit as it was: so skipping a slot no lane owns, as the fast groups do, gives
+// the same bits as evaluating it.
 #pragma once
 #include <cstddef>
 #include <cstdint>
 
 #include "core/world.hpp"
+#include "kernels/fine_springs.hpp"
 
 namespace papertear {
 
@@ -54,6 +61,7 @@ struct CellForceInputs {
   const std::uint32_t* cell_nodes;
   const float* cell_scale;
   const SpringTable* table;
+  const FineSprings* fine;  // which cell evaluates which slot, and for how many springs
 };
 
 struct ForceOutputs {

@@ -77,12 +77,16 @@ using papertear::testing::perturb;  // tests/random_state.hpp
 // per-cell stiffness factors in [0.7, 1.3] so that the kernels' scaling is exercised too.
 // (The step stays stable: the scene's dt is half the limit at factor 1, and the limit only
 // shrinks by 1/sqrt(1.3).)
-pt::World perturbed_world(const pt::Scene& scene, std::uint32_t seed, float dp, float dv) {
+// With random_scales, every cell gets its own stiffness factor, so no two cells' springs
+// coincide (kernels/fine_springs.hpp) and each cell evaluates all 28; without, coincident
+// springs are merged as in every scene the library builds.
+pt::World perturbed_world(const pt::Scene& scene, std::uint32_t seed, float dp, float dv, bool random_scales = true) {
   pt::World w = pt::Simulation(scene, {.threads = 1}).world();
   perturb(w, seed, dp, dv);
   std::mt19937 rng(seed + 1);
   std::uniform_real_distribution<float> factor(0.7f, 1.3f);
-  for (float& f : w.topo.cell_scale) f = factor(rng);
+  if (random_scales)
+    for (float& f : w.topo.cell_scale) f = factor(rng);
   return w;
 }
 
@@ -145,17 +149,21 @@ struct Forces {
   pt::ForceOutputs outputs() { return {x.data(), y.data(), z.data()}; }
 };
 
-pt::CellForceInputs cell_inputs(const pt::World& w) {
+// The kernels' inputs at the node state, with the merged fine springs built for w (kept
+// alive in `fine` while the inputs are used).
+pt::CellForceInputs cell_inputs(const pt::World& w, pt::FineSprings& fine) {
+  pt::build_fine_springs(w.topo, w.springs, fine);
   const pt::NodeStore& n = w.nodes;
   return {n.px.data(), n.py.data(), n.pz.data(), n.vx.data(), n.vy.data(), n.vz.data(),
-          w.topo.cell_nodes.data(), w.topo.cell_scale.data(), &w.springs};
+          w.topo.cell_nodes.data(), w.topo.cell_scale.data(), &w.springs, &fine};
 }
 
 // The cell kernel over the 8 colour lists in colour order, as the solver runs it.
 template <class Kernel>
 Forces cell_forces(const pt::World& w, Kernel kernel) {
   Forces f(w.nodes.count);
-  const pt::CellForceInputs in = cell_inputs(w);
+  pt::FineSprings fine;
+  const pt::CellForceInputs in = cell_inputs(w, fine);
   for (const auto& list : w.topo.colour_cells) kernel(0, list.size(), list.data(), in, f.outputs());
   return f;
 }
@@ -163,7 +171,8 @@ Forces cell_forces(const pt::World& w, Kernel kernel) {
 void add_coarse_forces(const pt::World& w, Forces& f) {
   const std::size_t n = w.coarse.size();
   pt::CoarseForceScratch scratch{std::vector<float>(n), std::vector<float>(n), std::vector<float>(n)};
-  pt::coarse_spring_forces(0, n, w.coarse, w.topo, cell_inputs(w), scratch);
+  pt::FineSprings fine;
+  pt::coarse_spring_forces(0, n, w.coarse, w.topo, cell_inputs(w, fine), scratch);
   pt::scatter_coarse_forces(w.coarse, w.topo, scratch, f.outputs());
 }
 
@@ -221,7 +230,8 @@ TEST_CASE("the solver's phases of rows add the same bits as one pass per colour"
       REQUIRE(pt::split_node(w, pt::NodeId(d.vertex_index(i, 3, 1)), i % 2 == 0 ? 0 : 1, 1).valid());
     const Forces colours = cell_forces(w, pt::add_cell_forces);
     Forces phases(w.nodes.count);
-    pt::add_fine_forces(w.topo, cell_inputs(w), phases.outputs());
+    pt::FineSprings fine;
+    pt::add_fine_forces(w.topo, cell_inputs(w, fine), phases.outputs());
     INFO("cells per row " << nx);
     CHECK(same_bits(colours.x, phases.x));
     CHECK(same_bits(colours.y, phases.y));
@@ -271,7 +281,9 @@ TEST_CASE("reference model starts from the world it is given", "[reference]") {
 }
 
 TEST_CASE("cell and coarse kernels match the reference spring forces", "[reference]") {
-  const pt::World w = perturbed_world(small_pull_scene(), 11, 0.1f, 0.05f);
+  const bool random_scales = GENERATE(true, false);
+  INFO("random stiffness factors: " << random_scales);
+  const pt::World w = perturbed_world(small_pull_scene(), 11, 0.1f, 0.05f, random_scales);
   const pt::ReferenceModel ref(w);
   Forces f = cell_forces(w, pt::add_cell_forces);
   add_coarse_forces(w, f);
@@ -297,7 +309,11 @@ TEST_CASE("cell and coarse kernels match the reference spring forces", "[referen
 }
 
 TEST_CASE("vector and scalar cell kernels give the same bits", "[reference]") {
-  const pt::World w = perturbed_world(small_pull_scene(), 29, 0.1f, 0.05f);
+  const bool random_scales = GENERATE(true, false);
+  INFO("random stiffness factors: " << random_scales);
+  pt::Scene scene = small_pull_scene();
+  scene.sheet.cells = {37, 5, 3};  // rows of whole vector groups and an overlapping last one
+  const pt::World w = perturbed_world(scene, 29, 0.1f, 0.05f, random_scales);
   const Forces wide = cell_forces(w, pt::add_cell_forces);
   const Forces scalar = cell_forces(w, pt::add_cell_forces_scalar);
   CHECK(same_bits(wide.x, scalar.x));
@@ -308,8 +324,10 @@ TEST_CASE("vector and scalar cell kernels give the same bits", "[reference]") {
   const auto& list = w.topo.colour_cells[0];
   REQUIRE(list.size() >= 3);
   Forces a(w.nodes.count), b(w.nodes.count);
-  pt::add_cell_forces(1, list.size(), list.data(), cell_inputs(w), a.outputs());
-  pt::add_cell_forces_scalar(1, list.size(), list.data(), cell_inputs(w), b.outputs());
+  pt::FineSprings fine;
+  const pt::CellForceInputs in = cell_inputs(w, fine);
+  pt::add_cell_forces(1, list.size(), list.data(), in, a.outputs());
+  pt::add_cell_forces_scalar(1, list.size(), list.data(), in, b.outputs());
   CHECK(same_bits(a.x, b.x));
   CHECK(same_bits(a.y, b.y));
   CHECK(same_bits(a.z, b.z));

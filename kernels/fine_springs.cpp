@@ -1,0 +1,160 @@
+#include "kernels/fine_springs.hpp"
+
+#include <array>
+#include <cstring>
+
+namespace papertear {
+namespace {
+
+// slot_of[a][b]: the slot joining corners a and b (either order).
+constexpr std::array<std::array<std::int8_t, 8>, 8> make_slot_of() {
+  std::array<std::array<std::int8_t, 8>, 8> t{};
+  for (auto& row : t) row.fill(-1);
+  for (int s = 0; s < kSpringsPerCell; ++s) {
+    const SpringSlot& sl = kSpringSlots[std::size_t(s)];
+    t[sl.a][sl.b] = t[sl.b][sl.a] = std::int8_t(s);
+  }
+  return t;
+}
+constexpr auto kSlotOf = make_slot_of();
+
+bool same_parameters(const SpringTable& t, int s, int u) {
+  return t.rest[std::size_t(s)] == t.rest[std::size_t(u)] && t.stiffness[std::size_t(s)] == t.stiffness[std::size_t(u)] &&
+         t.damping[std::size_t(s)] == t.damping[std::size_t(u)];
+}
+
+// How many springs coincide with slot s of cell c (same two nodes and parameters), if c
+// owns them (the largest id among them); 0 when another cell does. The candidates are the
+// cells that contain both of the spring's lattice vertices: 2 choices along each axis the
+// spring does not span, 1 along each it does.
+std::uint8_t coincident_count(const Topology& topo, const SpringTable& table, std::uint32_t c, int s) {
+  const LatticeDims& d = topo.dims;
+  const SpringSlot& sl = kSpringSlots[std::size_t(s)];
+  const auto ijk = d.cell_ijk(c);
+  const int lim[3] = {d.nx, d.ny, d.nl};
+  int lo[3], hi[3];
+  for (int ax = 0; ax < 3; ++ax) {
+    const int va = ijk[std::size_t(ax)] + corner_bit(sl.a, ax), vb = ijk[std::size_t(ax)] + corner_bit(sl.b, ax);
+    lo[ax] = va == vb ? std::max(va - 1, 0) : ijk[std::size_t(ax)];
+    hi[ax] = va == vb ? std::min(va, lim[ax] - 1) : ijk[std::size_t(ax)];
+  }
+  const std::uint32_t node_a = topo.node(c, sl.a), node_b = topo.node(c, sl.b);
+  const float scale = topo.cell_scale[c];
+  int count = 0;
+  std::uint32_t owner = c;
+  for (int k = lo[2]; k <= hi[2]; ++k)
+    for (int j = lo[1]; j <= hi[1]; ++j)
+      for (int i = lo[0]; i <= hi[0]; ++i) {
+        const std::uint32_t other = d.cell_index(i, j, k);
+        const int delta[3] = {ijk[0] - i, ijk[1] - j, ijk[2] - k};
+        auto corner_in_other = [&](int q) {
+          return corner_of(corner_bit(q, 0) + delta[0], corner_bit(q, 1) + delta[1], corner_bit(q, 2) + delta[2]);
+        };
+        const int qa = corner_in_other(sl.a), qb = corner_in_other(sl.b);
+        const int u = kSlotOf[std::size_t(qa)][std::size_t(qb)];
+        if (topo.node(other, qa) == node_a && topo.node(other, qb) == node_b && same_parameters(table, s, u) &&
+            topo.cell_scale[other] == scale) {
+          ++count;
+          owner = std::max(owner, other);
+        }
+      }
+  return owner == c ? std::uint8_t(count) : std::uint8_t(0);
+}
+
+// Slot s of a cell none of whose corners has been split, in a sheet of uniform springs and
+// stiffness factors: every candidate cell then has the same nodes and parameters, so the
+// count is the number of candidates and the owner the one with the largest (i, j, k).
+// Along an axis the spring does not span, its end sits at coordinate i + bit: the candidates
+// are i + bit - 1 and i + bit where they exist, and the cell owns the spring when i + bit is
+// past the last cell or bit = 0.
+std::uint8_t whole_sheet_count(const LatticeDims& d, const std::array<int, 3>& ijk, int s) {
+  const SpringSlot& sl = kSpringSlots[std::size_t(s)];
+  const int lim[3] = {d.nx, d.ny, d.nl};
+  int count = 1;
+  for (int ax = 0; ax < 3; ++ax) {
+    const int bit = corner_bit(sl.a, ax);
+    if (bit != corner_bit(sl.b, ax)) continue;  // spans this axis: one candidate
+    const int i = ijk[std::size_t(ax)];
+    if (bit == 1 && i + 1 < lim[ax]) return 0;  // the cell above along ax owns it
+    if (bit == 0 && i > 0) count *= 2;
+  }
+  return std::uint8_t(count);
+}
+
+bool corners_whole(const Topology& topo, const FineSprings& out, std::uint32_t c) {
+  const LatticeDims& d = topo.dims;
+  const auto ijk = d.cell_ijk(c);
+  for (int q = 0; q < kCornersPerCell; ++q)
+    if (!out.whole_vertex[d.vertex_index(ijk[0] + corner_bit(q, 0), ijk[1] + corner_bit(q, 1), ijk[2] + corner_bit(q, 2))])
+      return false;
+  return true;
+}
+
+void assign_cell(const Topology& topo, const SpringTable& table, std::uint32_t c, bool whole, FineSprings& out) {
+  const auto ijk = topo.dims.cell_ijk(c);
+  std::uint32_t owned = 0;
+  for (int s = 0; s < kSpringsPerCell; ++s) {
+    const std::uint8_t n = whole ? whole_sheet_count(topo.dims, ijk, s) : coincident_count(topo, table, c, s);
+    out.count[std::size_t(s) * out.cells + c] = n;
+    if (n != 0) owned |= 1u << s;
+  }
+  out.owned[c] = owned;
+}
+
+// True when slots that can coincide (same family and axis) have the same parameters and all
+// cells the same stiffness factor: then coincidence is a matter of nodes alone.
+bool uniform_springs(const Topology& topo, const SpringTable& table) {
+  for (int s = 0; s < kSpringsPerCell; ++s)
+    for (int u = 0; u < kSpringsPerCell; ++u)
+      if (kSpringSlots[std::size_t(s)].family == kSpringSlots[std::size_t(u)].family &&
+          kSpringSlots[std::size_t(s)].axis == kSpringSlots[std::size_t(u)].axis && !same_parameters(table, s, u))
+        return false;
+  for (float f : topo.cell_scale)
+    if (f != topo.cell_scale.front()) return false;
+  return true;
+}
+
+}  // namespace
+
+void prepare_fine_springs(const Topology& topo, const SpringTable& table, FineSprings& out) {
+  const LatticeDims& d = topo.dims;
+  out.cells = std::size_t(d.cells());
+  out.count.resize(kSpringsPerCell * out.cells + 16);
+  std::memset(out.count.data(), 0, out.count.size());
+  out.owned.assign(out.cells, 0);
+  // A vertex is whole while every cell around it still uses the vertex's own node.
+  out.whole_vertex.assign(std::size_t(d.vertices()), uniform_springs(topo, table) ? 1 : 0);
+  for (std::uint32_t c = 0; c < out.cells; ++c) {
+    const auto ijk = d.cell_ijk(c);
+    for (int q = 0; q < kCornersPerCell; ++q) {
+      const std::uint32_t v = d.vertex_index(ijk[0] + corner_bit(q, 0), ijk[1] + corner_bit(q, 1), ijk[2] + corner_bit(q, 2));
+      if (topo.node(c, q) != v) out.whole_vertex[v] = 0;
+    }
+  }
+}
+
+void assign_fine_springs(std::size_t begin, std::size_t end, const Topology& topo, const SpringTable& table,
+                         FineSprings& out) {
+  for (std::size_t c = begin; c < end; ++c)
+    assign_cell(topo, table, std::uint32_t(c), corners_whole(topo, out, std::uint32_t(c)), out);
+}
+
+void build_fine_springs(const Topology& topo, const SpringTable& table, FineSprings& out) {
+  prepare_fine_springs(topo, table, out);
+  assign_fine_springs(0, out.cells, topo, table, out);
+}
+
+void update_fine_springs_at(const Topology& topo, const SpringTable& table, std::uint32_t vertex, FineSprings& out) {
+  const LatticeDims& d = topo.dims;
+  const auto v = d.vertex_ijk(vertex);
+  const int lim[3] = {d.nx, d.ny, d.nl};
+  for (int dk = -1; dk <= 0; ++dk)
+    for (int dj = -1; dj <= 0; ++dj)
+      for (int di = -1; di <= 0; ++di) {
+        const int i = v[0] + di, j = v[1] + dj, k = v[2] + dk;
+        if (i < 0 || j < 0 || k < 0 || i >= lim[0] || j >= lim[1] || k >= lim[2]) continue;
+        assign_cell(topo, table, d.cell_index(i, j, k), false, out);
+      }
+}
+
+}  // namespace papertear

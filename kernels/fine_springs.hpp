@@ -1,0 +1,69 @@
+// Coincident fine springs merged (MODEL.md §4: "an implementation may merge coincident
+// springs for speed, as long as the result is the same").
+//
+// Every cell has its own 28 springs, so an interior edge carries four coincident springs
+// (one per cell around it) and an interior face diagonal two: of a cell's 28 springs only 13
+// are distinct. Coincident springs join the same two nodes with the same rest length,
+// stiffness and damping (slots of one family and axis, cells of equal stiffness factor), so
+// together they pull with `count` times one spring's force. The cell kernel evaluates each
+// such set once, in its owner (the cell of the set with the largest id), scaled by `count`;
+// the other cells skip it (count 0).
+//
+// In a whole sheet the owner is the cell on whose low faces (dx, dy or dz = 0) the spring
+// lies, so every cell owns the same 13 slots (kLowSlots) and only cells on the sheet's high
+// sides (i = nx - 1, j = ny - 1, k = nl - 1) own more. When fracture splits a node, the
+// springs of the cells that moved to the copy no longer coincide with the others': each
+// side then has an owner of its own, which may own slots outside kLowSlots.
+//
+// Which cell owns a set depends on the topology only, never on the thread count, and a
+// node's force is still its cells' contributions in colour order, so the solver's bits stay
+// independent of threads and vector width.
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <initializer_list>
+#include <vector>
+
+#include "core/aligned_array.hpp"
+#include "core/world.hpp"
+
+namespace papertear {
+
+// Slots by where they lie in the cell (kSpringSlots order, core/lattice.hpp).
+inline constexpr std::uint32_t slot_bits(std::initializer_list<int> slots) {
+  std::uint32_t m = 0;
+  for (int s : slots) m |= 1u << s;
+  return m;
+}
+// Owned by every cell of a whole sheet: the edges and face diagonals on its low faces, and
+// the 4 body diagonals.
+inline constexpr std::uint32_t kLowSlots = slot_bits({0, 4, 8, 12, 13, 16, 17, 20, 21, 24, 25, 26, 27});
+inline constexpr std::uint32_t kHighXSlots = slot_bits({5, 9, 22, 23});  // extra at i = nx - 1
+inline constexpr std::uint32_t kHighZSlots = slot_bits({2, 6, 14, 15});  // extra at k = nl - 1
+inline constexpr std::uint32_t kHighXZSlots = slot_bits({7});           // extra at both
+inline constexpr std::uint32_t kAllSlots = (1u << kSpringsPerCell) - 1u;
+
+struct FineSprings {
+  std::size_t cells = 0;
+  // [slot * cells + cell]: how many coincident springs the cell evaluates as one, 0 where
+  // another cell does. 16 bytes of padding at the end: kernels load 16 lanes at a time.
+  AlignedArray<std::uint8_t> count{11};
+  std::vector<std::uint32_t> owned;  // per cell: bit s set when count of slot s > 0
+  // Per lattice vertex, while building: 1 when no node there has been split (and springs
+  // and stiffness factors are uniform), so the cells around it need no node comparisons.
+  std::vector<std::uint8_t> whole_vertex;
+
+  std::uint8_t at(std::size_t cell, int slot) const { return count[std::size_t(slot) * cells + cell]; }
+};
+
+// Ownership and counts of every cell's slots, from the current topology: prepare, then
+// assign every cell (assign_fine_springs may run on disjoint cell ranges in parallel).
+void build_fine_springs(const Topology& topo, const SpringTable& table, FineSprings& out);
+void prepare_fine_springs(const Topology& topo, const SpringTable& table, FineSprings& out);
+void assign_fine_springs(std::size_t begin, std::size_t end, const Topology& topo, const SpringTable& table,
+                         FineSprings& out);
+// The same for the cells around lattice vertex `vertex` only: enough after a node there
+// was split, since every spring whose coincidence the split can change ends at that vertex.
+void update_fine_springs_at(const Topology& topo, const SpringTable& table, std::uint32_t vertex, FineSprings& out);
+
+}  // namespace papertear

@@ -1,0 +1,156 @@
+// Merged coincident fine springs (kernels/fine_springs.hpp): who evaluates which spring, for
+// how many, and that the merged kernel pulls as hard as the 28 springs of every cell.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <map>
+#include <tuple>
+#include <vector>
+
+#include <catch2/catch.hpp>
+
+#include "core/simulation.hpp"
+#include "core/solver.hpp"
+#include "fracture/fracture_pass.hpp"
+#include "kernels/cell_forces.hpp"
+#include "kernels/fine_springs.hpp"
+#include "tests/random_state.hpp"
+#include "tests/standard_scenes.hpp"
+
+namespace pt = papertear;
+
+namespace {
+
+pt::Scene small_sheet(int notch) {
+  pt::Scene s;
+  s.sheet.cells = {9, 7, 4};
+  s.load.grip_cells = 1;
+  s.load.notch = notch;
+  return s;
+}
+
+// The plain definition: springs coincide when they join the same two nodes and belong to
+// slots of one family and axis; the set's owner is its largest cell id.
+pt::FineSprings brute_force(const pt::World& w) {
+  using Key = std::tuple<std::uint32_t, std::uint32_t, int, int>;
+  std::map<Key, std::vector<std::uint32_t>> sets;
+  const std::size_t cells = std::size_t(w.topo.dims.cells());
+  auto key = [&](std::uint32_t c, int s) {
+    const pt::SpringSlot& sl = pt::kSpringSlots[std::size_t(s)];
+    const std::uint32_t a = w.topo.node(c, sl.a), b = w.topo.node(c, sl.b);
+    return Key{std::min(a, b), std::max(a, b), int(sl.family), int(sl.axis)};
+  };
+  for (std::uint32_t c = 0; c < cells; ++c)
+    for (int s = 0; s < pt::kSpringsPerCell; ++s) sets[key(c, s)].push_back(c);
+  pt::FineSprings f;
+  f.cells = cells;
+  f.count.resize(pt::kSpringsPerCell * cells + 16);
+  f.owned.assign(cells, 0);
+  for (std::uint32_t c = 0; c < cells; ++c)
+    for (int s = 0; s < pt::kSpringsPerCell; ++s) {
+      const auto& set = sets[key(c, s)];
+      const bool owner = c == *std::max_element(set.begin(), set.end());
+      f.count[std::size_t(s) * cells + c] = owner ? std::uint8_t(set.size()) : 0;
+      if (owner) f.owned[c] |= 1u << s;
+    }
+  return f;
+}
+
+void require_same(const pt::FineSprings& got, const pt::FineSprings& want) {
+  REQUIRE(got.cells == want.cells);
+  std::size_t wrong = 0, total = 0;
+  for (std::size_t c = 0; c < got.cells; ++c)
+    for (int s = 0; s < pt::kSpringsPerCell; ++s) {
+      wrong += got.at(c, s) != want.at(c, s) ? 1 : 0;
+      total += got.at(c, s);
+    }
+  CHECK(wrong == 0);
+  CHECK(got.owned == want.owned);
+  CHECK(total == got.cells * pt::kSpringsPerCell);  // every cell's every spring counted once
+}
+
+// A FineSprings in which every cell evaluates its own 28 springs: the unmerged model.
+pt::FineSprings unmerged(std::size_t cells) {
+  pt::FineSprings f;
+  f.cells = cells;
+  f.count.resize(pt::kSpringsPerCell * cells + 16, 1);
+  f.owned.assign(cells, pt::kAllSlots);
+  return f;
+}
+
+std::array<std::vector<float>, 3> fine_forces(const pt::World& w, const pt::FineSprings& fine) {
+  std::array<std::vector<float>, 3> f;
+  for (auto& col : f) col.assign(w.nodes.count, 0.0f);
+  const pt::NodeStore& n = w.nodes;
+  const pt::CellForceInputs in{n.px.data(), n.py.data(), n.pz.data(), n.vx.data(), n.vy.data(), n.vz.data(),
+                               w.topo.cell_nodes.data(), w.topo.cell_scale.data(), &w.springs, &fine};
+  pt::add_fine_forces(w.topo, in, {f[0].data(), f[1].data(), f[2].data()});
+  return f;
+}
+
+}  // namespace
+
+TEST_CASE("a whole sheet's cells own their 13 low springs, the high sides more", "[fine]") {
+  const pt::World w = pt::Simulation(small_sheet(0), {.threads = 1}).world();
+  pt::FineSprings fine;
+  pt::build_fine_springs(w.topo, w.springs, fine);
+  require_same(fine, brute_force(w));
+  const pt::LatticeDims& d = w.topo.dims;
+  CHECK(fine.owned[d.cell_index(3, 2, 1)] == pt::kLowSlots);
+  CHECK(fine.owned[d.cell_index(d.nx - 1, 2, 1)] == (pt::kLowSlots | pt::kHighXSlots));
+  CHECK(fine.owned[d.cell_index(3, 2, d.nl - 1)] == (pt::kLowSlots | pt::kHighZSlots));
+  // An interior x edge stands for the 4 cells around it; one on the sheet's bottom face for 2.
+  CHECK(fine.at(d.cell_index(3, 2, 1), 0) == 4);
+  CHECK(fine.at(d.cell_index(3, 2, 0), 0) == 2);
+  CHECK(fine.at(d.cell_index(3, 2, 1), 24) == 1);  // a body diagonal is never shared
+}
+
+TEST_CASE("split nodes give each side its own springs, updated where the split was", "[fine]") {
+  pt::World w = pt::Simulation(small_sheet(3), {.threads = 1}).world();  // the notch splits nodes
+  pt::FineSprings fine;
+  pt::build_fine_springs(w.topo, w.springs, fine);
+  require_same(fine, brute_force(w));
+  const pt::LatticeDims& d = w.topo.dims;
+  for (int i = 2; i < d.nx - 1; i += 3) {
+    const std::uint32_t vertex = d.vertex_index(i, 4, 2);
+    REQUIRE(pt::split_node(w, pt::NodeId(vertex), i % 2, 1).valid());
+    pt::update_fine_springs_at(w.topo, w.springs, vertex, fine);
+  }
+  require_same(fine, brute_force(w));
+}
+
+TEST_CASE("the solver keeps its merged springs in step with a tearing sheet", "[fine]") {
+  const auto scenes = pt::standard::scenes();
+  pt::World w = pt::Simulation(scenes[1].scene, {.threads = 1}).world();
+  pt::SolverScratch solver;
+  pt::FractureScratch fracture;
+  for (int step = 0; step < scenes[1].steps; ++step) {
+    pt::integrate_step(w, solver);
+    pt::fracture_pass(w, fracture);
+    ++w.step;
+  }
+  REQUIRE(w.events.size() > 100);
+  pt::integrate_step(w, solver);  // brings the table up to date with the last splits
+  require_same(solver.fine, brute_force(w));
+}
+
+TEST_CASE("merged springs pull as hard as every cell's own 28", "[fine]") {
+  pt::World w = pt::Simulation(small_sheet(3), {.threads = 1}).world();
+  const pt::LatticeDims& d = w.topo.dims;
+  REQUIRE(pt::split_node(w, pt::NodeId(d.vertex_index(4, 3, 2)), 0, 1).valid());
+  pt::testing::perturb(w, 5, 0.1f, 0.05f);
+  pt::FineSprings merged;
+  pt::build_fine_springs(w.topo, w.springs, merged);
+  const auto got = fine_forces(w, merged);
+  const auto want = fine_forces(w, unmerged(merged.cells));
+  // Only rounding differs: one product by the count instead of up to 4 additions per
+  // spring. A missing or doubled spring would be off by a whole spring force.
+  double largest = 0.0, worst = 0.0;
+  for (int a = 0; a < 3; ++a)
+    for (std::size_t i = 0; i < w.nodes.count; ++i) {
+      largest = std::max(largest, double(std::fabs(want[std::size_t(a)][i])));
+      worst = std::max(worst, double(std::fabs(got[std::size_t(a)][i] - want[std::size_t(a)][i])));
+    }
+  REQUIRE(largest > 1e-2);
+  CHECK(worst <= 1e-5 * largest);
+}
