@@ -107,61 +107,121 @@ struct CellLanes {
   }
 };
 
-// Eight cells per AVX2 vector even where AVX-512 offers sixteen: measured on the development
-// machine, sixteen lanes were slower (48 corner values and 24 sums spill either way, and
-// fewer 16-cell groups fit a row; bench/README.md).
 #if !defined(PAPERTEAR_NO_SIMD) && XSIMD_WITH_AVX2
 #define PAPERTEAR_CELL_REGULAR 1
-using CellLane = xsimd::batch<float, xsimd::avx2>;
 
-// Lanes l = 0..7 of (src[base + 2l], src[base + 2l + 1]).
-inline void load_pair(const float* p, __m256& even, __m256& odd) {
-  const __m256 lo = _mm256_loadu_ps(p), hi = _mm256_loadu_ps(p + 8);
-  even = _mm256_castpd_ps(_mm256_permute4x64_pd(_mm256_castps_pd(_mm256_shuffle_ps(lo, hi, 0x88)), 0xD8));
-  odd = _mm256_castpd_ps(_mm256_permute4x64_pd(_mm256_castps_pd(_mm256_shuffle_ps(lo, hi, 0xDD)), 0xD8));
-}
+// The lane type of regular groups and how it fetches and returns pairs of consecutive nodes.
+// AVX-512 takes 16 cells per vector, AVX2 8. With 28 springs per cell 8 lanes had measured
+// faster (48 corner values and 24 sums spill either way); with the 13 merged springs the
+// per-group loads, stores and spills weigh more and 16 lanes measured 4-9 % faster
+// (bench/README.md, round 5).
+// AVX2: 8 cells per vector.
+struct Pairs8 {
+  using V = xsimd::batch<float, xsimd::avx2>;
+  static constexpr int kLanes = 8;
 
-// dst[base + 2l] += even[l], dst[base + 2l + 1] += odd[l].
-inline void add_pair(float* p, __m256 even, __m256 odd) {
-  const __m256 a = _mm256_unpacklo_ps(even, odd), b = _mm256_unpackhi_ps(even, odd);
-  _mm256_storeu_ps(p, _mm256_add_ps(_mm256_loadu_ps(p), _mm256_permute2f128_ps(a, b, 0x20)));
-  _mm256_storeu_ps(p + 8, _mm256_add_ps(_mm256_loadu_ps(p + 8), _mm256_permute2f128_ps(a, b, 0x31)));
-}
+  // Lanes l = 0..7 of (src[base + 2l], src[base + 2l + 1]).
+  static void load(const float* p, V& even, V& odd) {
+    const __m256 lo = _mm256_loadu_ps(p), hi = _mm256_loadu_ps(p + 8);
+    even = _mm256_castpd_ps(_mm256_permute4x64_pd(_mm256_castps_pd(_mm256_shuffle_ps(lo, hi, 0x88)), 0xD8));
+    odd = _mm256_castpd_ps(_mm256_permute4x64_pd(_mm256_castps_pd(_mm256_shuffle_ps(lo, hi, 0xDD)), 0xD8));
+  }
 
-// The same, leaving lanes l < skip unchanged (a blend, so their bits stay exactly as they were).
-inline void add_pair_from(float* p, __m256 even, __m256 odd, int skip) {
-  const __m256i lane_lo = _mm256_setr_epi32(0, 0, 1, 1, 2, 2, 3, 3), lane_hi = _mm256_setr_epi32(4, 4, 5, 5, 6, 6, 7, 7);
-  const __m256i first = _mm256_set1_epi32(skip - 1);
-  const __m256 keep_lo = _mm256_castsi256_ps(_mm256_cmpgt_epi32(lane_lo, first));
-  const __m256 keep_hi = _mm256_castsi256_ps(_mm256_cmpgt_epi32(lane_hi, first));
-  const __m256 a = _mm256_unpacklo_ps(even, odd), b = _mm256_unpackhi_ps(even, odd);
-  const __m256 old_lo = _mm256_loadu_ps(p), old_hi = _mm256_loadu_ps(p + 8);
-  const __m256 new_lo = _mm256_add_ps(old_lo, _mm256_permute2f128_ps(a, b, 0x20));
-  const __m256 new_hi = _mm256_add_ps(old_hi, _mm256_permute2f128_ps(a, b, 0x31));
-  _mm256_storeu_ps(p, _mm256_blendv_ps(old_lo, new_lo, keep_lo));
-  _mm256_storeu_ps(p + 8, _mm256_blendv_ps(old_hi, new_hi, keep_hi));
-}
+  // dst[base + 2l] += even[l], dst[base + 2l + 1] += odd[l] for lanes l >= skip; the other
+  // lanes' nodes keep their bits (a blend).
+  static void add(float* p, const V& even, const V& odd, int skip) {
+    const __m256 a = _mm256_unpacklo_ps(even, odd), b = _mm256_unpackhi_ps(even, odd);
+    const __m256 old_lo = _mm256_loadu_ps(p), old_hi = _mm256_loadu_ps(p + 8);
+    __m256 new_lo = _mm256_add_ps(old_lo, _mm256_permute2f128_ps(a, b, 0x20));
+    __m256 new_hi = _mm256_add_ps(old_hi, _mm256_permute2f128_ps(a, b, 0x31));
+    if (skip != 0) {
+      const __m256i lane_lo = _mm256_setr_epi32(0, 0, 1, 1, 2, 2, 3, 3), lane_hi = _mm256_setr_epi32(4, 4, 5, 5, 6, 6, 7, 7);
+      const __m256i first = _mm256_set1_epi32(skip - 1);
+      new_lo = _mm256_blendv_ps(old_lo, new_lo, _mm256_castsi256_ps(_mm256_cmpgt_epi32(lane_lo, first)));
+      new_hi = _mm256_blendv_ps(old_hi, new_hi, _mm256_castsi256_ps(_mm256_cmpgt_epi32(lane_hi, first)));
+    }
+    _mm256_storeu_ps(p, new_lo);
+    _mm256_storeu_ps(p + 8, new_hi);
+  }
 
-// A "regular" group: 8 cells of a colour along one row (ids c, c+2, ..., c+14) whose corner
-// nodes also advance by 2 per cell, with each dx = 1 corner the node right after its dx = 0
-// corner. Before any split that is every group inside a row (a group straddles a row end
-// about once per row and takes the general path; handling two runs per group with blends
-// and masked stores measured no faster). Then the 16 nodes of a corner pair (dy, dz) are
-// contiguous: two vector loads and an even/odd shuffle fetch them for all 8 cells, and the
-// forces go back the same way. Each lane still sees exactly the values the general loader
-// would give it, and each node still gets one addition, so the bits match.
+  // Bytes first[2l], widened to floats.
+  static V even_bytes(const std::uint8_t* first) {
+    const __m128i pick = _mm_setr_epi8(0, 2, 4, 6, 8, 10, 12, 14, -1, -1, -1, -1, -1, -1, -1, -1);
+    const __m128i bytes = _mm_loadu_si128(reinterpret_cast<const __m128i*>(first));
+    return _mm256_cvtepi32_ps(_mm256_cvtepu8_epi32(_mm_shuffle_epi8(bytes, pick)));
+  }
+
+  // True when cells[l] == cells[0] + 2l for every lane.
+  static bool stride_two(const std::uint32_t* cells) {
+    const __m256i two_l = _mm256_setr_epi32(0, 2, 4, 6, 8, 10, 12, 14);
+    const __m256i ids = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(cells));
+    return _mm256_movemask_epi8(_mm256_cmpeq_epi32(ids, _mm256_add_epi32(_mm256_set1_epi32(int(cells[0])), two_l))) == -1;
+  }
+};
+
+#if XSIMD_WITH_AVX512F
+// AVX-512: 16 cells per vector.
+struct Pairs16 {
+  using V = xsimd::batch<float, xsimd::avx512f>;
+  static constexpr int kLanes = 16;
+
+  static void load(const float* p, V& even, V& odd) {
+    const __m512 lo = _mm512_loadu_ps(p), hi = _mm512_loadu_ps(p + 16);
+    const __m512i e = _mm512_setr_epi32(0, 2, 4, 6, 8, 10, 12, 14, 16, 18, 20, 22, 24, 26, 28, 30);
+    even = _mm512_permutex2var_ps(lo, e, hi);
+    odd = _mm512_permutex2var_ps(lo, _mm512_add_epi32(e, _mm512_set1_epi32(1)), hi);
+  }
+
+  static void add(float* p, const V& even, const V& odd, int skip) {
+    const __m512i lo_idx = _mm512_setr_epi32(0, 16, 1, 17, 2, 18, 3, 19, 4, 20, 5, 21, 6, 22, 7, 23);
+    const __m512 a = _mm512_permutex2var_ps(even, lo_idx, odd);
+    const __m512 b = _mm512_permutex2var_ps(even, _mm512_add_epi32(lo_idx, _mm512_set1_epi32(8)), odd);
+    // Nodes 2l and 2l + 1 belong to lane l: keep the first 2 * skip nodes as they are.
+    const unsigned first = 2u * unsigned(skip);
+    const __mmask16 keep_a = first >= 16 ? 0 : __mmask16(0xFFFFu << first);
+    const __mmask16 keep_b = first <= 16 ? 0xFFFF : __mmask16(0xFFFFu << (first - 16));
+    _mm512_mask_storeu_ps(p, keep_a, _mm512_add_ps(_mm512_loadu_ps(p), a));
+    _mm512_mask_storeu_ps(p + 16, keep_b, _mm512_add_ps(_mm512_loadu_ps(p + 16), b));
+  }
+
+  static V even_bytes(const std::uint8_t* first) {
+    const __m256i bytes = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(first));
+    const __m512i words = _mm512_and_si512(_mm512_cvtepu16_epi32(bytes), _mm512_set1_epi32(0xFF));
+    return _mm512_cvtepi32_ps(words);
+  }
+
+  static bool stride_two(const std::uint32_t* cells) {
+    const __m512i two_l = _mm512_setr_epi32(0, 2, 4, 6, 8, 10, 12, 14, 16, 18, 20, 22, 24, 26, 28, 30);
+    const __m512i ids = _mm512_loadu_si512(cells);
+    return _mm512_cmpeq_epi32_mask(ids, _mm512_add_epi32(_mm512_set1_epi32(int(cells[0])), two_l)) == 0xFFFF;
+  }
+};
+using CellPairs = Pairs16;
+#else
+using CellPairs = Pairs8;
+#endif
+using CellLane = CellPairs::V;
+
+// A "regular" group: kLanes cells of a colour along one row (ids c, c+2, c+4, ...) whose
+// corner nodes also advance by 2 per cell, with each dx = 1 corner the node right after its
+// dx = 0 corner. Before any split that is every group (core/solver.cpp hands out whole rows
+// and add_rows_with never lets a group straddle a row end). Then the 2 kLanes nodes of a
+// corner pair (dy, dz) are contiguous: two vector loads and an even/odd permute fetch them
+// for all cells, and the forces go back the same way. Each lane still sees exactly the
+// values the general loader would give it, and each node still gets one addition, so the
+// bits match.
+template <class P>
 struct RegularGroup {
-  using V = CellLane;
+  using V = typename P::V;
+  static constexpr int L = P::kLanes;
 
   // The first node of each corner pair (dy, dz), or false when the group is not regular.
   static bool bases(const std::uint32_t* cells, const std::uint32_t* cell_nodes, std::uint32_t (&base)[4]) {
-    const __m256i two_l = _mm256_setr_epi32(0, 2, 4, 6, 8, 10, 12, 14);
-    const __m256i ids = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(cells));
-    __m256i same = _mm256_cmpeq_epi32(ids, _mm256_add_epi32(_mm256_set1_epi32(int(cells[0])), two_l));
-    if (_mm256_movemask_epi8(same) != -1) return false;
+    if (!P::stride_two(cells)) return false;
     const std::uint32_t* row0 = cell_nodes + std::size_t(cells[0]) * 8;
     const __m256i first = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(row0));
-    for (int l = 1; l < 8; ++l) {
+    __m256i same = _mm256_set1_epi32(-1);
+    for (int l = 1; l < L; ++l) {
       const __m256i row = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(row0 + 16 * l));
       same = _mm256_and_si256(same, _mm256_cmpeq_epi32(row, _mm256_add_epi32(first, _mm256_set1_epi32(2 * l))));
     }
@@ -173,27 +233,23 @@ struct RegularGroup {
     return true;
   }
 
-  // The lanes' counts of one slot: bytes cells[0] + 2l of the slot's row, widened to floats.
+  // The lanes' counts of one slot (kernels/fine_springs.hpp), from the slot's row of bytes.
   struct RowCounts {
     const std::uint8_t* first;  // the slot-0 count of cells[0]
     std::size_t stride;         // cells per slot row
-    V operator()(int slot) const {
-      const __m128i even_bytes = _mm_setr_epi8(0, 2, 4, 6, 8, 10, 12, 14, -1, -1, -1, -1, -1, -1, -1, -1);
-      const __m128i bytes = _mm_loadu_si128(reinterpret_cast<const __m128i*>(first + std::size_t(slot) * stride));
-      return _mm256_cvtepi32_ps(_mm256_cvtepu8_epi32(_mm_shuffle_epi8(bytes, even_bytes)));
-    }
+    V operator()(int slot) const { return P::even_bytes(first + std::size_t(slot) * stride); }
   };
 
   // Runs the springs the group's cells own, picking the smallest slot set that covers them
   // (a slot no lane owns would only add zeros): the 13 low slots for most groups, those
   // plus the high-x or high-z side at the sheet's edges, all 28 near cracks.
-  [[gnu::always_inline]] static inline void springs(const std::uint32_t* cells, const V (&x)[8], const V (&y)[8], const V (&z)[8],
-                      const V (&u)[8], const V (&v)[8], const V (&w)[8], const CellForceInputs& in, V (&fx)[8],
-                      V (&fy)[8], V (&fz)[8]) {
-    alignas(32) float scale[8];
+  [[gnu::always_inline]] static inline void springs(const std::uint32_t* cells, const V (&x)[8], const V (&y)[8],
+                                                    const V (&z)[8], const V (&u)[8], const V (&v)[8], const V (&w)[8],
+                                                    const CellForceInputs& in, V (&fx)[8], V (&fy)[8], V (&fz)[8]) {
+    alignas(64) float scale[L];
     bool unit = true;
     std::uint32_t owned = 0;
-    for (int l = 0; l < 8; ++l) {
+    for (int l = 0; l < L; ++l) {
       scale[l] = in.cell_scale[cells[l]];
       unit &= scale[l] == 1.0f;
       owned |= in.fine->owned[cells[l]];
@@ -202,16 +258,17 @@ struct RegularGroup {
     const RowCounts count{in.fine->count.data() + cells[0], in.fine->cells};
     const SpringTable& tab = *in.table;
     auto within = [owned](std::uint32_t slots) { return (owned & ~slots) == 0; };
-    if (!unit) CellSprings<V>::template run<kAllSlots, false>(x, y, z, u, v, w, s, tab, count, fx, fy, fz);
-    else if (within(kLowSlots)) CellSprings<V>::template run<kLowSlots, true>(x, y, z, u, v, w, s, tab, count, fx, fy, fz);
+    using S = CellSprings<V>;
+    if (!unit) S::template run<kAllSlots, false>(x, y, z, u, v, w, s, tab, count, fx, fy, fz);
+    else if (within(kLowSlots)) S::template run<kLowSlots, true>(x, y, z, u, v, w, s, tab, count, fx, fy, fz);
     else if (within(kLowSlots | kHighXSlots))
-      CellSprings<V>::template run<kLowSlots | kHighXSlots, true>(x, y, z, u, v, w, s, tab, count, fx, fy, fz);
+      S::template run<kLowSlots | kHighXSlots, true>(x, y, z, u, v, w, s, tab, count, fx, fy, fz);
     else if (within(kLowSlots | kHighZSlots))
-      CellSprings<V>::template run<kLowSlots | kHighZSlots, true>(x, y, z, u, v, w, s, tab, count, fx, fy, fz);
+      S::template run<kLowSlots | kHighZSlots, true>(x, y, z, u, v, w, s, tab, count, fx, fy, fz);
     else if (within(kLowSlots | kHighXSlots | kHighZSlots | kHighXZSlots))
-      CellSprings<V>::template run<kLowSlots | kHighXSlots | kHighZSlots | kHighXZSlots, true>(x, y, z, u, v, w, s, tab,
-                                                                                               count, fx, fy, fz);
-    else CellSprings<V>::template run<kAllSlots, true>(x, y, z, u, v, w, s, tab, count, fx, fy, fz);
+      S::template run<kLowSlots | kHighXSlots | kHighZSlots | kHighXZSlots, true>(x, y, z, u, v, w, s, tab, count, fx,
+                                                                                   fy, fz);
+    else S::template run<kAllSlots, true>(x, y, z, u, v, w, s, tab, count, fx, fy, fz);
   }
 
   static bool run(const std::uint32_t* cells, const CellForceInputs& in, const ForceOutputs& out,
@@ -222,21 +279,13 @@ struct RegularGroup {
     const float* src[6] = {in.px, in.py, in.pz, in.vx, in.vy, in.vz};
     V* dst[6] = {x, y, z, u, v, w};
     for (int p = 0; p < 4; ++p)
-      for (int f = 0; f < 6; ++f) {
-        __m256 even, odd;
-        load_pair(src[f] + base[p], even, odd);
-        dst[f][2 * p] = even;
-        dst[f][2 * p + 1] = odd;
-      }
+      for (int f = 0; f < 6; ++f) P::load(src[f] + base[p], dst[f][2 * p], dst[f][2 * p + 1]);
     V fx[8], fy[8], fz[8];
     springs(cells, x, y, z, u, v, w, in, fx, fy, fz);
     float* dst_f[3] = {out.fx, out.fy, out.fz};
     const V* force[3] = {fx, fy, fz};
     for (int p = 0; p < 4; ++p)
-      for (int f = 0; f < 3; ++f) {
-        if (skip == 0) add_pair(dst_f[f] + base[p], force[f][2 * p], force[f][2 * p + 1]);
-        else add_pair_from(dst_f[f] + base[p], force[f][2 * p], force[f][2 * p + 1], int(skip));
-      }
+      for (int f = 0; f < 3; ++f) P::add(dst_f[f] + base[p], force[f][2 * p], force[f][2 * p + 1], int(skip));
     return true;
   }
 };
@@ -252,7 +301,7 @@ void add_forces_with(std::size_t begin, std::size_t end, const std::uint32_t* ce
   for (; i + W <= end; i += W) {
 #ifdef PAPERTEAR_CELL_REGULAR
     if constexpr (std::is_same_v<V, CellLane>)
-      if (RegularGroup::run(cells + i, in, out)) continue;
+      if (RegularGroup<CellPairs>::run(cells + i, in, out)) continue;
 #endif
     CellLanes<V>::run(cells + i, in, out);
   }
@@ -264,7 +313,7 @@ template <class V>
 void add_group(const std::uint32_t* cells, const CellForceInputs& in, const ForceOutputs& out, std::size_t skip) {
 #ifdef PAPERTEAR_CELL_REGULAR
   if constexpr (std::is_same_v<V, CellLane>)
-    if (RegularGroup::run(cells, in, out, skip)) return;
+    if (RegularGroup<CellPairs>::run(cells, in, out, skip)) return;
 #endif
   CellLanes<V>::run(cells, in, out, skip);
 }

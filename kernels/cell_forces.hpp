@@ -12,14 +12,15 @@
 //
 // Why cell-centric: a cell's 28 springs touch only its 8 corners, so the corners are loaded
 // once and the springs are evaluated in registers (the spring loop is fully unrolled),
-// eight cells per AVX2 vector. Coincident springs of neighbouring cells are evaluated once,
-// by one of the cells, weighted by their number (kernels/fine_springs.hpp): a group whose
-// cells own only the 13 low slots (most groups) runs 13 springs instead of 28. Groups of 8 cells along a lattice row whose nodes are still
-// the row's consecutive nodes ("regular", every group before any split except where a group
-// straddles a row end) load each corner pair with two vector loads and a shuffle and add
-// their forces back the same way; other groups fetch corners with scalar loads into a small
-// aligned buffer (on the development machine hardware gathers were slower). Both paths
-// give each lane the same values and each node one addition, so the bits are the same.
+// sixteen cells per AVX-512 vector (eight with AVX2). Coincident springs of neighbouring
+// cells are evaluated once, by one of the cells, weighted by their number
+// (kernels/fine_springs.hpp): a group whose cells own only the 13 low slots (most groups)
+// runs 13 springs instead of 28. Groups of cells along a lattice row whose nodes are still
+// the row's consecutive nodes ("regular": every group before any split) load each corner
+// pair with two vector loads and a permute and add their forces back the same way; other
+// groups fetch corners with scalar loads into a small aligned buffer (on the development
+// machine hardware gathers were slower). Both paths give each lane the same values and each
+// node one addition, so the bits are the same.
 //
 // Force of one spring (a → b), Hooke plus damping along the spring, times the number n of
 // springs it stands for:

@@ -119,7 +119,7 @@ bool uniform_springs(const Topology& topo, const SpringTable& table) {
 void prepare_fine_springs(const Topology& topo, const SpringTable& table, FineSprings& out) {
   const LatticeDims& d = topo.dims;
   out.cells = std::size_t(d.cells());
-  out.count.resize(kSpringsPerCell * out.cells + 16);
+  out.count.resize(kSpringsPerCell * out.cells + 32);
   std::memset(out.count.data(), 0, out.count.size());
   out.owned.assign(out.cells, 0);
   // A vertex is whole while every cell around it still uses the vertex's own node.

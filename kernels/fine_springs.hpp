@@ -46,7 +46,7 @@ inline constexpr std::uint32_t kAllSlots = (1u << kSpringsPerCell) - 1u;
 struct FineSprings {
   std::size_t cells = 0;
   // [slot * cells + cell]: how many coincident springs the cell evaluates as one, 0 where
-  // another cell does. 16 bytes of padding at the end: kernels load 16 lanes at a time.
+  // another cell does. 32 bytes of padding at the end: kernels load 32 bytes at a time.
   AlignedArray<std::uint8_t> count{11};
   std::vector<std::uint32_t> owned;  // per cell: bit s set when count of slot s > 0
   // Per lattice vertex, while building: 1 when no node there has been split (and springs

@@ -44,7 +44,7 @@ pt::FineSprings brute_force(const pt::World& w) {
     for (int s = 0; s < pt::kSpringsPerCell; ++s) sets[key(c, s)].push_back(c);
   pt::FineSprings f;
   f.cells = cells;
-  f.count.resize(pt::kSpringsPerCell * cells + 16);
+  f.count.resize(pt::kSpringsPerCell * cells + 32);
   f.owned.assign(cells, 0);
   for (std::uint32_t c = 0; c < cells; ++c)
     for (int s = 0; s < pt::kSpringsPerCell; ++s) {
@@ -73,7 +73,7 @@ void require_same(const pt::FineSprings& got, const pt::FineSprings& want) {
 pt::FineSprings unmerged(std::size_t cells) {
   pt::FineSprings f;
   f.cells = cells;
-  f.count.resize(pt::kSpringsPerCell * cells + 16, 1);
+  f.count.resize(pt::kSpringsPerCell * cells + 32, 1);
   f.owned.assign(cells, pt::kAllSlots);
   return f;
 }
