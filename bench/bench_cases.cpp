@@ -1,6 +1,10 @@
 #include "bench_cases.hpp"
 
+#include <bit>
+
 #include "core/world.hpp"
+#include "kernels/coarse_forces.hpp"
+#include "kernels/fine_springs.hpp"
 
 namespace papertear::bench {
 
@@ -32,8 +36,27 @@ double bytes_per_cell(const World& w) {
   const double cell_bytes = double(w.topo.cell_nodes.size()) * 4 + double(w.topo.cell_scale.size()) * 4 +
                             double(w.topo.cell_block.size()) * 4 + double(w.topo.face_strain.size()) * 4;
   const double coarse_bytes = double(w.coarse.size()) * (4 * 2 + 1 * 2 + 4 * 3 + 4);
+  // The solver's derived tables, built here as the solver builds them.
+  FineSprings fine;
+  build_fine_springs(w.topo, w.springs, fine);
+  const double fine_bytes = double(fine.count.size()) + double(fine.owned.size()) * 4;
+  BlockLattice lattice;
+  build_block_lattice(w.coarse, w.blocks, w.topo.dims, lattice);
+  const double lattice_bytes =
+      double(lattice.block.size() + lattice.corner_slot.size() + lattice.corner_node.size() + lattice.first.size() +
+             lattice.entry.size()) * 4 +
+      double(lattice.live.size() + lattice.rest.size() + lattice.stiffness.size() + lattice.damping.size() +
+             lattice.fx.size() + lattice.fy.size() + lattice.fz.size()) * 4;
   const double cells = double(w.topo.dims.cells());
-  return cells > 0 ? (node_bytes + cell_bytes + coarse_bytes) / cells : 0.0;
+  return cells > 0 ? (node_bytes + cell_bytes + coarse_bytes + fine_bytes + lattice_bytes) / cells : 0.0;
+}
+
+double evaluated_springs(const World& w) {
+  FineSprings fine;
+  build_fine_springs(w.topo, w.springs, fine);
+  double distinct = 0.0;
+  for (std::uint32_t owned : fine.owned) distinct += double(std::popcount(owned));
+  return distinct + double(w.coarse.size());
 }
 
 void set_throughput_counters(benchmark::State& state, const Size& size, double springs_per_iteration,

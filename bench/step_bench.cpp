@@ -42,6 +42,7 @@ void step_papertear(benchmark::State& state, Case c) {
   set_throughput_counters(state, c.size, springs_per_step(c.size), seconds, "ns_per_cell_step");
   state.counters["bytes_per_cell"] = bytes_per_cell(sim.world());
   state.counters["block_springs"] = double(sim.world().coarse.size());
+  state.counters["evaluated_springs"] = evaluated_springs(sim.world());
 }
 
 void step_reference(benchmark::State& state, Case c) {

@@ -4,10 +4,11 @@ bench/README.md: medians per case, then the ratios papertear vs reference, 2 thr
 fracture pass vs step, and measured vs the machine floor from the probe cases.
 
 The floor of one RK4 step is the larger of
-  compute: cells * 28 springs * 4 stages / (sqrt+div pairs per second), and
+  compute: evaluated_springs * 4 stages / (sqrt+div pairs per second), and
   memory:  cells * bytes_per_cell * 4 stages / (triad bytes per second),
-each at the same thread count (springs need one square root and one division each; every
-stage streams the solver state at least once).
+each at the same thread count (every spring the solver evaluates, distinct fine springs and
+block springs, needs one square root and one division; every stage streams the solver state
+at least once). Results without the evaluated_springs counter fall back to cells * 28.
 
 usage: summarize.py latest.json out.md out-summary.json
 """
@@ -63,7 +64,8 @@ def ratios(cases):
             step_case = cases.get(f"step/papertear/{size}/threads:{t}")
             if pairs and bw and step_case:
                 cells = cells_of(size)
-                compute = cells * 28 * 4 / pairs
+                springs = step_case["counters"].get("evaluated_springs", cells * 28)
+                compute = springs * 4 / pairs
                 memory = cells * step_case["counters"].get("bytes_per_cell", 0) * 4 / bw
                 floor = max(compute, memory)
                 out.append((f"step {size}, {t} threads: measured / floor ({floor * 1e3:.3f} ms, "
