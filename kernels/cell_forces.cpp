@@ -151,6 +151,13 @@ struct Pairs8 {
     return _mm256_cvtepi32_ps(_mm256_cvtepu8_epi32(_mm_shuffle_epi8(bytes, pick)));
   }
 
+  // The bitwise or of first[2l] over the lanes.
+  static std::uint32_t or_even(const std::uint32_t* first) {
+    std::uint32_t bits = 0;
+    for (int l = 0; l < kLanes; ++l) bits |= first[2 * l];
+    return bits;
+  }
+
   // True when cells[l] == cells[0] + 2l for every lane.
   static bool stride_two(const std::uint32_t* cells) {
     const __m256i two_l = _mm256_setr_epi32(0, 2, 4, 6, 8, 10, 12, 14);
@@ -188,6 +195,12 @@ struct Pairs16 {
     const __m256i bytes = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(first));
     const __m512i words = _mm512_and_si512(_mm512_cvtepu16_epi32(bytes), _mm512_set1_epi32(0xFF));
     return _mm512_cvtepi32_ps(words);
+  }
+
+  static std::uint32_t or_even(const std::uint32_t* first) {
+    const __m512i even = _mm512_setr_epi32(0, 2, 4, 6, 8, 10, 12, 14, 16, 18, 20, 22, 24, 26, 28, 30);
+    const __m512i picked = _mm512_permutex2var_epi32(_mm512_loadu_si512(first), even, _mm512_loadu_si512(first + 16));
+    return std::uint32_t(_mm512_reduce_or_epi32(picked));
   }
 
   static bool stride_two(const std::uint32_t* cells) {
@@ -240,52 +253,47 @@ struct RegularGroup {
     V operator()(int slot) const { return P::even_bytes(first + std::size_t(slot) * stride); }
   };
 
-  // Runs the springs the group's cells own, picking the smallest slot set that covers them
-  // (a slot no lane owns would only add zeros): the 13 low slots for most groups, those
-  // plus the high-x or high-z side at the sheet's edges, all 28 near cracks.
-  [[gnu::always_inline]] static inline void springs(const std::uint32_t* cells, const V (&x)[8], const V (&y)[8],
-                                                    const V (&z)[8], const V (&u)[8], const V (&v)[8], const V (&w)[8],
-                                                    const CellForceInputs& in, V (&fx)[8], V (&fy)[8], V (&fz)[8]) {
-    alignas(64) float scale[L];
-    bool unit = true;
-    std::uint32_t owned = 0;
-    for (int l = 0; l < L; ++l) {
-      scale[l] = in.cell_scale[cells[l]];
-      unit &= scale[l] == 1.0f;
-      owned |= in.fine->owned[cells[l]];
-    }
-    const V s = V::load_aligned(scale);
-    const RowCounts count{in.fine->count.data() + cells[0], in.fine->cells};
-    const SpringTable& tab = *in.table;
-    auto within = [owned](std::uint32_t slots) { return (owned & ~slots) == 0; };
-    using S = CellSprings<V>;
-    if (!unit) S::template run<kAllSlots, false>(x, y, z, u, v, w, s, tab, count, fx, fy, fz);
-    else if (within(kLowSlots)) S::template run<kLowSlots, true>(x, y, z, u, v, w, s, tab, count, fx, fy, fz);
-    else if (within(kLowSlots | kHighXSlots))
-      S::template run<kLowSlots | kHighXSlots, true>(x, y, z, u, v, w, s, tab, count, fx, fy, fz);
-    else if (within(kLowSlots | kHighZSlots))
-      S::template run<kLowSlots | kHighZSlots, true>(x, y, z, u, v, w, s, tab, count, fx, fy, fz);
-    else if (within(kLowSlots | kHighXSlots | kHighZSlots | kHighXZSlots))
-      S::template run<kLowSlots | kHighXSlots | kHighZSlots | kHighXZSlots, true>(x, y, z, u, v, w, s, tab, count, fx,
-                                                                                   fy, fz);
-    else S::template run<kAllSlots, true>(x, y, z, u, v, w, s, tab, count, fx, fy, fz);
-  }
-
-  static bool run(const std::uint32_t* cells, const CellForceInputs& in, const ForceOutputs& out,
-                  std::size_t skip = 0) {
-    std::uint32_t base[4];
-    if (!bases(cells, in.cell_nodes, base)) return false;
+  // Loads the corners, runs the springs in kSlots and adds the forces back. One function per
+  // slot set, each compiled on its own: inlined side by side into one dispatcher, the rare
+  // sets' code made the common one's register allocation worse (the kernel ran ~20 % slower).
+  template <std::uint32_t kSlots, bool kUnitScale>
+  [[gnu::noinline]] static void evaluate(const std::uint32_t* cells, const std::uint32_t (&base)[4],
+                                         const CellForceInputs& in, const ForceOutputs& out, int skip) {
     V x[8], y[8], z[8], u[8], v[8], w[8];
     const float* src[6] = {in.px, in.py, in.pz, in.vx, in.vy, in.vz};
     V* dst[6] = {x, y, z, u, v, w};
     for (int p = 0; p < 4; ++p)
       for (int f = 0; f < 6; ++f) P::load(src[f] + base[p], dst[f][2 * p], dst[f][2 * p + 1]);
+    alignas(64) float scale[L];
+    for (int l = 0; l < L; ++l) scale[l] = kUnitScale ? 1.0f : in.cell_scale[cells[l]];
+    const RowCounts count{in.fine->count.data() + cells[0], in.fine->cells};
     V fx[8], fy[8], fz[8];
-    springs(cells, x, y, z, u, v, w, in, fx, fy, fz);
+    CellSprings<V>::template run<kSlots, kUnitScale>(x, y, z, u, v, w, V::load_aligned(scale), *in.table, count, fx,
+                                                     fy, fz);
     float* dst_f[3] = {out.fx, out.fy, out.fz};
     const V* force[3] = {fx, fy, fz};
     for (int p = 0; p < 4; ++p)
-      for (int f = 0; f < 3; ++f) P::add(dst_f[f] + base[p], force[f][2 * p], force[f][2 * p + 1], int(skip));
+      for (int f = 0; f < 3; ++f) P::add(dst_f[f] + base[p], force[f][2 * p], force[f][2 * p + 1], skip);
+  }
+
+  // Runs the springs the group's cells own, with the smallest slot set that covers them (a
+  // slot no lane owns would only add zeros): the 13 low slots for most groups, those plus the
+  // high-x or high-z side at the sheet's edges, all 28 near cracks or with stiffness factors.
+  static bool run(const std::uint32_t* cells, const CellForceInputs& in, const ForceOutputs& out,
+                  std::size_t skip = 0) {
+    std::uint32_t base[4];
+    if (!bases(cells, in.cell_nodes, base)) return false;
+    const std::uint32_t owned = P::or_even(in.fine->owned.data() + cells[0]);
+    auto within = [owned](std::uint32_t slots) { return (owned & ~slots) == 0; };
+    constexpr std::uint32_t kLowX = kLowSlots | kHighXSlots, kLowZ = kLowSlots | kHighZSlots;
+    constexpr std::uint32_t kLowXZ = kLowSlots | kHighXSlots | kHighZSlots | kHighXZSlots;
+    const int sk = int(skip);
+    if ((owned & kScaledCell) != 0) evaluate<kAllSlots, false>(cells, base, in, out, sk);
+    else if (within(kLowSlots)) evaluate<kLowSlots, true>(cells, base, in, out, sk);
+    else if (within(kLowX)) evaluate<kLowX, true>(cells, base, in, out, sk);
+    else if (within(kLowZ)) evaluate<kLowZ, true>(cells, base, in, out, sk);
+    else if (within(kLowXZ)) evaluate<kLowXZ, true>(cells, base, in, out, sk);
+    else evaluate<kAllSlots, true>(cells, base, in, out, sk);
     return true;
   }
 };

@@ -98,7 +98,7 @@ void assign_cell(const Topology& topo, const SpringTable& table, std::uint32_t c
     out.count[std::size_t(s) * out.cells + c] = n;
     if (n != 0) owned |= 1u << s;
   }
-  out.owned[c] = owned;
+  out.owned[c] = owned | (topo.cell_scale[c] != 1.0f ? kScaledCell : 0u);
 }
 
 // True when slots that can coincide (same family and axis) have the same parameters and all
@@ -121,7 +121,7 @@ void prepare_fine_springs(const Topology& topo, const SpringTable& table, FineSp
   out.cells = std::size_t(d.cells());
   out.count.resize(kSpringsPerCell * out.cells + 32);
   std::memset(out.count.data(), 0, out.count.size());
-  out.owned.assign(out.cells, 0);
+  out.owned.assign(out.cells + 32, 0);
   // A vertex is whole while every cell around it still uses the vertex's own node.
   out.whole_vertex.assign(std::size_t(d.vertices()), uniform_springs(topo, table) ? 1 : 0);
   for (std::uint32_t c = 0; c < out.cells; ++c) {

@@ -45,7 +45,7 @@ pt::FineSprings brute_force(const pt::World& w) {
   pt::FineSprings f;
   f.cells = cells;
   f.count.resize(pt::kSpringsPerCell * cells + 32);
-  f.owned.assign(cells, 0);
+  f.owned.assign(cells + 32, 0);
   for (std::uint32_t c = 0; c < cells; ++c)
     for (int s = 0; s < pt::kSpringsPerCell; ++s) {
       const auto& set = sets[key(c, s)];
@@ -75,6 +75,7 @@ pt::FineSprings unmerged(std::size_t cells) {
   f.cells = cells;
   f.count.resize(pt::kSpringsPerCell * cells + 32, 1);
   f.owned.assign(cells, pt::kAllSlots);
+  f.owned.resize(cells + 32, 0);
   return f;
 }
 
