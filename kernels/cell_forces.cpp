@@ -229,20 +229,15 @@ struct RegularGroup {
   static constexpr int L = P::kLanes;
 
   // The first node of each corner pair (dy, dz), or false when the group is not regular.
-  static bool bases(const std::uint32_t* cells, const std::uint32_t* cell_nodes, std::uint32_t (&base)[4]) {
-    if (!P::stride_two(cells)) return false;
+  // `owned` is the or of the lanes' FineSprings::owned: without kSplitCorner every corner is
+  // its vertex's original node, whose id is the vertex id, so the nodes advance with the
+  // cells unless the group crosses a row end, which adds one vertex (seen at the last lane).
+  static bool bases(const std::uint32_t* cells, const std::uint32_t* cell_nodes, std::uint32_t owned,
+                    std::uint32_t (&base)[4]) {
+    if ((owned & kSplitCorner) != 0 || !P::stride_two(cells)) return false;
     const std::uint32_t* row0 = cell_nodes + std::size_t(cells[0]) * 8;
-    const __m256i first = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(row0));
-    __m256i same = _mm256_set1_epi32(-1);
-    for (int l = 1; l < L; ++l) {
-      const __m256i row = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(row0 + 16 * l));
-      same = _mm256_and_si256(same, _mm256_cmpeq_epi32(row, _mm256_add_epi32(first, _mm256_set1_epi32(2 * l))));
-    }
-    if (_mm256_movemask_epi8(same) != -1) return false;
-    for (int p = 0; p < 4; ++p) {
-      if (row0[2 * p + 1] != row0[2 * p] + 1) return false;
-      base[p] = row0[2 * p];
-    }
+    if (cell_nodes[std::size_t(cells[L - 1]) * 8] != row0[0] + 2 * (L - 1)) return false;
+    for (int p = 0; p < 4; ++p) base[p] = row0[2 * p];
     return true;
   }
 
@@ -281,9 +276,9 @@ struct RegularGroup {
   // high-x or high-z side at the sheet's edges, all 28 near cracks or with stiffness factors.
   static bool run(const std::uint32_t* cells, const CellForceInputs& in, const ForceOutputs& out,
                   std::size_t skip = 0) {
-    std::uint32_t base[4];
-    if (!bases(cells, in.cell_nodes, base)) return false;
     const std::uint32_t owned = P::or_even(in.fine->owned.data() + cells[0]);
+    std::uint32_t base[4];
+    if (!bases(cells, in.cell_nodes, owned, base)) return false;
     auto within = [owned](std::uint32_t slots) { return (owned & ~slots) == 0; };
     constexpr std::uint32_t kLowX = kLowSlots | kHighXSlots, kLowZ = kLowSlots | kHighZSlots;
     constexpr std::uint32_t kLowXZ = kLowSlots | kHighXSlots | kHighZSlots | kHighXZSlots;

@@ -98,6 +98,10 @@ void assign_cell(const Topology& topo, const SpringTable& table, std::uint32_t c
     out.count[std::size_t(s) * out.cells + c] = n;
     if (n != 0) owned |= 1u << s;
   }
+  const LatticeDims& d = topo.dims;
+  for (int q = 0; q < kCornersPerCell; ++q)
+    if (topo.node(c, q) != d.vertex_index(ijk[0] + corner_bit(q, 0), ijk[1] + corner_bit(q, 1), ijk[2] + corner_bit(q, 2)))
+      owned |= kSplitCorner;
   out.owned[c] = owned | (topo.cell_scale[c] != 1.0f ? kScaledCell : 0u);
 }
 

@@ -43,14 +43,17 @@ inline constexpr std::uint32_t kHighZSlots = slot_bits({2, 6, 14, 15});  // extr
 inline constexpr std::uint32_t kHighXZSlots = slot_bits({7});           // extra at both
 inline constexpr std::uint32_t kAllSlots = (1u << kSpringsPerCell) - 1u;
 inline constexpr std::uint32_t kScaledCell = 1u << 31;  // in FineSprings::owned
+inline constexpr std::uint32_t kSplitCorner = 1u << 30; // ditto: a corner's node is a split copy
 
 struct FineSprings {
   std::size_t cells = 0;
   // [slot * cells + cell]: how many coincident springs the cell evaluates as one, 0 where
   // another cell does. 32 bytes of padding at the end: kernels load 32 bytes at a time.
   AlignedArray<std::uint8_t> count{11};
-  // Per cell: bit s set when the count of slot s is > 0, and kScaledCell when the cell's
-  // stiffness factor is not 1. 32 entries of padding (0) at the end, for vector loads.
+  // Per cell: bit s set when the count of slot s is > 0, kScaledCell when the cell's
+  // stiffness factor is not 1, kSplitCorner when one of its corners is not its vertex's
+  // original node (node id = vertex id). 32 entries of padding (0) at the end, for vector
+  // loads.
   std::vector<std::uint32_t> owned;
   // Per lattice vertex, while building: 1 when no node there has been split (and springs
   // and stiffness factors are uniform), so the cells around it need no node comparisons.
