@@ -1,5 +1,7 @@
 // One time step of the solver: four RK4 stages, each a force evaluation and a node update.
 //
+// Before stage 1 the merged-spring table (kernels/fine_springs.hpp: which cell evaluates
+// which coincident fine springs) is brought up to date with the splits since the last step.
 // Per stage, in this order (each line is one or more parallel regions; kernels/parallel.hpp
 // explains why the result does not depend on the thread count):
 //   1. fine springs, 4 phases            phase p = rows (j, k) of parity (p & 1, p >> 1), i.e.
