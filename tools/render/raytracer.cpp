@@ -165,19 +165,31 @@ class FrameTracer {
   struct Shading {
     Vec3 albedo, shadow_from, to_light;
     float weight = 0.0f, sky = 0.0f;
-    Vec3 finish(float intensity, float visible) const { return albedo * (intensity * (weight * visible) + sky); }
+    std::uint32_t tri = 0;
+    bool printed = false;  // the albedo comes from the print
+    float light(float intensity, float visible) const { return intensity * (weight * visible) + sky; }
+  };
+
+  static constexpr std::uint32_t kNoTriangle = std::numeric_limits<std::uint32_t>::max();
+  // What the first pass keeps of a sample besides its colour, for choosing a pixel's extra
+  // samples (Renderer::draw).
+  struct SampleInfo {
+    Vec3 plain;             // the colour with the print left blank: shading, edges, shadows
+    float lighting = 0.0f;  // when the sample sees print directly: colour = print x lighting
+    std::uint32_t print_tri = kNoTriangle;
   };
 
   // The colours of up to kPacket primary rays from one origin: out[i] for rays.dir[i].
   // Rays go to Embree as packets, layer by layer: each round finds the next surface of every
   // ray still going, shades it (one packet of shadow rays) and lets the ray on through a
   // peeled skin. Which rays share a packet is fixed by the caller, so the result does not
-  // depend on the thread count.
-  void trace_packet(const Vec3& origin, const PacketRays& rays, Vec3* out) const {
+  // depend on the thread count. With `info`, info[i] describes out[i] too.
+  void trace_packet(const Vec3& origin, const PacketRays& rays, Vec3* out, SampleInfo* info = nullptr) const {
     std::array<float, kPacket> throughput, tnear;
     std::array<bool, kPacket> going;
     for (int i = 0; i < kPacket; ++i) {
       if (i < rays.count) out[i] = Vec3::Zero();
+      if (info && i < rays.count) info[i] = SampleInfo{Vec3::Zero()};
       throughput[std::size_t(i)] = 1.0f;
       tnear[std::size_t(i)] = 0.0f;
       going[std::size_t(i)] = i < rays.count;
@@ -197,6 +209,7 @@ class FrameTracer {
         const Vec3& dir = rays.dir[li];
         if (p.rh.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID) {
           out[i] += throughput[li] * look_.background;
+          if (info) info[i].plain += throughput[li] * look_.background;
           going[li] = false;
           continue;
         }
@@ -219,12 +232,37 @@ class FrameTracer {
       visibility(seen, share, visible);
       for (int i = 0; i < kPacket; ++i) {
         const auto li = std::size_t(i);
-        if (share[li] > 0.0f) out[i] += share[li] * seen[li].finish(look_.intensity, visible[li]);
+        if (!(share[li] > 0.0f)) continue;
+        const float light = seen[li].light(look_.intensity, visible[li]);
+        out[i] += share[li] * (seen[li].albedo * light);
+        if (info) record(seen[li], share[li], light, layer == 0, info[i]);
       }
     }
   }
 
+  // The print where a ray meets the plane of print triangle `tri` (continued beyond its
+  // edges): a pixel's extra samples where only the print varies across it need no rays.
+  Vec3 print_along(std::uint32_t tri, const Vec3& origin, const Vec3& dir) const {
+    const auto& t = mesh_.triangles[tri];
+    const Vec3 a = vec(mesh_.position[t[0]]), e1 = vec(mesh_.position[t[1]]) - a, e2 = vec(mesh_.position[t[2]]) - a;
+    const Vec3 n = e1.cross(e2);
+    const float facing = n.dot(dir), area2 = n.squaredNorm();
+    if (!(std::abs(facing) > 1e-6f * std::sqrt(area2))) return albedo(tri, 1.0f / 3.0f, 1.0f / 3.0f);
+    const Vec3 ap = origin + (n.dot(a - origin) / facing) * dir - a;
+    return albedo(tri, ap.cross(e2).dot(n) / area2, e1.cross(ap).dot(n) / area2);
+  }
+
  private:
+  // Adds a shaded surface to a sample's info. A share of 1 in the first round is an opaque
+  // surface in front of everything else.
+  void record(const Shading& seen, float share, float light, bool first_round, SampleInfo& info) const {
+    info.plain += share * ((seen.printed ? look_.paper : seen.albedo) * light);
+    if (first_round && seen.printed && share == 1.0f) {
+      info.print_tri = seen.tri;
+      info.lighting = light;
+    }
+  }
+
   // One Embree packet of rays: lane i is in use when valid[i].
   struct Packet {
     alignas(64) int valid[kPacket] = {};
@@ -403,14 +441,18 @@ class FrameTracer {
       n = -n;
     }
     Shading s;
+    // Shadow rays aim at a random point of the light's disc, which makes the penumbrae;
+    // the cosine term takes the disc's centre: over a disc this small it varies by less
+    // than its own noise would add, and a noise-free shading lets adaptive sampling find
+    // edges rather than noise (Renderer::draw).
     s.to_light = light_direction(key);
-    const float facing = n.dot(s.to_light);
+    const float facing = n.dot(look_.to_light);
     const float alpha = mesh_.opacity[tri];
     // Loose fibres scatter light round themselves: "wrapped" diffuse and a fuller share of
     // the sky keep a torn edge paper-white instead of grey.
     const bool fibre = mesh_.material[tri] == Material::Fibre;
     const float lit = fibre ? (facing + kFibreWrap) / (1.0f + kFibreWrap) : facing;
-    if (lit > 0.0f && (fibre || ng.dot(s.to_light) > 0.0f)) {
+    if (lit > 0.0f && (fibre || ng.dot(look_.to_light) > 0.0f)) {
       s.weight = lit;
       s.shadow_from = point + eps_ * ng;
     } else if (alpha < 1.0f && facing < 0.0f) {  // light through a thin skin from behind
@@ -419,6 +461,8 @@ class FrameTracer {
     }
     s.sky = look_.ambient * (fibre ? 0.85f : 0.55f + 0.45f * std::max(0.0f, n.z()));
     s.albedo = albedo(tri, u, v);
+    s.tri = tri;
+    s.printed = look_.print_enabled && mesh_.material[tri] == Material::Print;
     return s;
   }
 
@@ -451,13 +495,18 @@ class PixelSampler {
 
   const Vec3& eye() const { return eye_; }
 
-  // Adds sample k of pixel (x, y) to a packet.
-  void add(PacketRays& rays, int x, int y, int k) const {
+  // The direction of sample k of pixel (x, y).
+  Vec3 direction(int x, int y, int k) const {
     const auto off = subpixel(x, y, k, samples_);
     const float ndc_x = (2.0f * (float(x) + off[0]) / float(width_) - 1.0f) * tx_;
     const float ndc_y = (1.0f - 2.0f * (float(y) + off[1]) / float(height_)) * ty_;
+    return (fwd_ + ndc_x * right_ + ndc_y * up_).normalized();
+  }
+
+  // Adds sample k of pixel (x, y) to a packet.
+  void add(PacketRays& rays, int x, int y, int k) const {
     const auto i = std::size_t(rays.count++);
-    rays.dir[i] = (fwd_ + ndc_x * right_ + ndc_y * up_).normalized();
+    rays.dir[i] = direction(x, y, k);
     rays.key[i] = hash_key(std::uint64_t(x), std::uint64_t(y), std::uint64_t(k));
   }
 
@@ -493,18 +542,40 @@ void for_each_pixel_by_block(int x0, int y0, int x1, int y1, const Pixel& pixel)
         for (int x = bx; x < std::min(bx + kBlock, x1); ++x) pixel(x, y);
 }
 
-// Whether a pixel's first sample differs visibly from one of its four neighbours'.
-bool differs_from_neighbours(const std::vector<Vec3>& first, int width, int height, int x, int y) {
+// Whether a pixel's value differs visibly from one of its four neighbours'; value(i) is
+// pixel i's.
+template <class Value>
+bool differs_from_neighbours(int width, int height, int x, int y, const Value& value) {
   constexpr float kContrast = 0.015f;  // in linear light, about 1.5 % of white
-  const Vec3& c = first[std::size_t(y) * std::size_t(width) + std::size_t(x)];
+  const auto at = [&](int px, int py) -> const Vec3& { return value(std::size_t(py) * std::size_t(width) + std::size_t(px)); };
+  const Vec3& c = at(x, y);
   const int dx[4] = {-1, 1, 0, 0}, dy[4] = {0, 0, -1, 1};
   for (int n = 0; n < 4; ++n) {
     const int nx = x + dx[n], ny = y + dy[n];
     if (nx < 0 || ny < 0 || nx >= width || ny >= height) continue;
-    const Vec3 d = first[std::size_t(ny) * std::size_t(width) + std::size_t(nx)] - c;
-    if (d.cwiseAbs().maxCoeff() > kContrast) return true;
+    if ((at(nx, ny) - c).cwiseAbs().maxCoeff() > kContrast) return true;
   }
   return false;
+}
+
+// One sample per pixel (adaptive sampling's first pass).
+struct FirstPass {
+  std::vector<Vec3> colour;
+  std::vector<FrameTracer::SampleInfo> info;
+};
+
+// What a pixel's remaining samples need. Where it differs from a neighbour in shading, at a
+// silhouette, an edge or a shadow's boundary, they are traced; where only the print differs
+// (most such pixels of a printed sheet), the print is looked up where the samples would
+// meet the same flat surface, lit as the first sample. Flat areas are already converged.
+enum class Refinement { none, rays, print };
+Refinement refinement(const FirstPass& first, int width, int height, int x, int y) {
+  if (differs_from_neighbours(width, height, x, y, [&](std::size_t i) -> const Vec3& { return first.info[i].plain; }))
+    return Refinement::rays;
+  if (!differs_from_neighbours(width, height, x, y, [&](std::size_t i) -> const Vec3& { return first.colour[i]; }))
+    return Refinement::none;
+  const std::size_t i = std::size_t(y) * std::size_t(width) + std::size_t(x);
+  return first.info[i].print_tri != FrameTracer::kNoTriangle ? Refinement::print : Refinement::rays;
 }
 
 }  // namespace
@@ -534,19 +605,22 @@ Image Renderer::draw(const SurfaceMesh& mesh, const Camera& camera) const {
   const FrameTracer tracer(impl_->device, mesh, impl_->look, impl_->texture);
   const PixelSampler sampler(camera, s.width, s.height, s.samples);
   const std::size_t pixels = std::size_t(s.width) * std::size_t(s.height);
-  // Pass 1: one ray per pixel. Pass 2: the remaining samples, only where a pixel differs
-  // from a neighbour (edges, print detail, shadow boundaries); flat areas are already
-  // converged. Both passes read only pass 1's results, so the choice is deterministic.
+  // Pass 1: one ray per pixel. Pass 2: the remaining samples where a pixel needs them
+  // (refinement()). Both passes read only pass 1's results, so the choice is deterministic.
   // Rays go out in packets of consecutive samples in a tile's block order.
-  std::vector<Vec3> first(pixels);
+  FirstPass first{std::vector<Vec3>(pixels), std::vector<FrameTracer::SampleInfo>(pixels)};
   const auto index = [&](int x, int y) { return std::size_t(y) * std::size_t(s.width) + std::size_t(x); };
   for_each_tile(s.width, s.height, [&](int x0, int y0, int x1, int y1) {
     PacketRays rays;
     std::array<std::size_t, kPacket> dest{};
     std::array<Vec3, kPacket> out;
+    std::array<FrameTracer::SampleInfo, kPacket> info;
     auto flush = [&] {
-      tracer.trace_packet(sampler.eye(), rays, out.data());
-      for (int i = 0; i < rays.count; ++i) first[dest[std::size_t(i)]] = out[std::size_t(i)];
+      tracer.trace_packet(sampler.eye(), rays, out.data(), info.data());
+      for (int i = 0; i < rays.count; ++i) {
+        first.colour[dest[std::size_t(i)]] = out[std::size_t(i)];
+        first.info[dest[std::size_t(i)]] = info[std::size_t(i)];
+      }
       rays.count = 0;
     };
     for_each_pixel_by_block(x0, y0, x1, y1, [&](int x, int y) {
@@ -559,10 +633,16 @@ Image Renderer::draw(const SurfaceMesh& mesh, const Camera& camera) const {
   Image image(s.width, s.height);
   const float exposure = impl_->look.exposure;
   const SrgbEncoder& encode = impl_->encode;
+  const auto put = [&](std::size_t i, const Vec3& colour) {
+    std::uint8_t* p = image.rgb.data() + 3 * i;
+    for (int c = 0; c < 3; ++c) p[c] = encode(colour[c] * exposure);
+  };
   for_each_tile(s.width, s.height, [&](int x0, int y0, int x1, int y1) {
-    // The extra samples of this tile's pixels that need them, k = 1, 2, ... per pixel.
+    // The extra samples of this tile's pixels that need rays, k = 1, 2, ... per pixel, and
+    // the pixels that need only the print.
     std::vector<std::size_t> pixel_of;
     std::vector<Vec3> sample;
+    std::vector<std::array<int, 2>> print_only;
     PacketRays rays;
     auto flush = [&] {
       sample.resize(sample.size() + std::size_t(rays.count));
@@ -571,7 +651,9 @@ Image Renderer::draw(const SurfaceMesh& mesh, const Camera& camera) const {
     };
     if (s.samples > 1)
       for_each_pixel_by_block(x0, y0, x1, y1, [&](int x, int y) {
-        if (!differs_from_neighbours(first, s.width, s.height, x, y)) return;
+        const Refinement r = refinement(first, s.width, s.height, x, y);
+        if (r == Refinement::print) print_only.push_back({x, y});
+        if (r != Refinement::rays) return;
         for (int k = 1; k < s.samples; ++k) {
           pixel_of.push_back(index(x, y));
           sampler.add(rays, x, y, k);
@@ -580,19 +662,21 @@ Image Renderer::draw(const SurfaceMesh& mesh, const Camera& camera) const {
       });
     if (rays.count > 0) flush();
     for (int y = y0; y < y1; ++y)
-      for (int x = x0; x < x1; ++x) {
-        const Vec3& colour = first[index(x, y)];
-        std::uint8_t* p = image.pixel(x, y);
-        for (int c = 0; c < 3; ++c) p[c] = encode(colour[c] * exposure);
-      }
+      for (int x = x0; x < x1; ++x) put(index(x, y), first.colour[index(x, y)]);
     // Pixels with extra samples (overwritten): their mean, summed in sample order.
     for (std::size_t j = 0; j < pixel_of.size();) {
       const std::size_t i = pixel_of[j];
-      Vec3 colour = first[i];
+      Vec3 colour = first.colour[i];
       for (; j < pixel_of.size() && pixel_of[j] == i; ++j) colour += sample[j];
-      colour /= float(s.samples);
-      std::uint8_t* p = image.rgb.data() + 3 * i;
-      for (int c = 0; c < 3; ++c) p[c] = encode(colour[c] * exposure);
+      put(i, colour / float(s.samples));
+    }
+    for (const auto& [x, y] : print_only) {
+      const std::size_t i = index(x, y);
+      const FrameTracer::SampleInfo& f = first.info[i];
+      Vec3 colour = first.colour[i];
+      for (int k = 1; k < s.samples; ++k)
+        colour += f.lighting * tracer.print_along(f.print_tri, sampler.eye(), sampler.direction(x, y, k));
+      put(i, colour / float(s.samples));
     }
   });
   return image;
