@@ -147,26 +147,31 @@ struct PacketRays {
   int count = 0;
 };
 
-// Ray masks: opaque triangles and peeled skins are two geometries of one scene, so a
-// shadow ray can skip the skins without a second BVH.
-constexpr unsigned kOpaqueMask = 1u, kSkinMask = 2u, kAnyMask = kOpaqueMask | kSkinMask;
+// The surfaces are split into two Embree scenes: opaque triangles and peeled skins. A ray
+// finds its nearest opaque surface once, in the big scene, and walks the few skins in front
+// of it in the small one; a shadow ray asks the big scene only whether anything opaque is in
+// the way (an any-hit query, which stops at the first hit) and walks the skins only if not.
+enum Layer : unsigned { kOpaque = 0, kSkins = 1 };
+constexpr float kFar = std::numeric_limits<float>::infinity();
 
 // Everything a tile needs to trace one frame; read-only while tracing.
 class FrameTracer {
  public:
   FrameTracer(RTCDevice device, const SurfaceMesh& mesh, const Look& look, const Texture& texture)
-      : mesh_(mesh), look_(look), texture_(texture), scene_(device) {
+      : mesh_(mesh), look_(look), texture_(texture), scenes_{EmbreeScene(device), EmbreeScene(device)} {
     build(device);
   }
 
   // A surface point's shading up to the shadow ray: colour = albedo * (intensity *
   // weight * visibility + sky), with visibility asked along `to_light` from `shadow_from`
   // when `weight` > 0.
+  // Trivially constructible (prepare() value-initialises it), so that arrays of them cost
+  // nothing to set up.
   struct Shading {
     Vec3 albedo, shadow_from, to_light;
-    float weight = 0.0f, sky = 0.0f;
-    std::uint32_t tri = 0;
-    bool printed = false;  // the albedo comes from the print
+    float weight, sky;
+    std::uint32_t tri;
+    bool printed;  // the albedo comes from the print
     float light(float intensity, float visible) const { return intensity * (weight * visible) + sky; }
   };
 
@@ -180,11 +185,15 @@ class FrameTracer {
   };
 
   // The colours of up to kPacket primary rays from one origin: out[i] for rays.dir[i].
-  // Rays go to Embree as packets, layer by layer: each round finds the next surface of every
-  // ray still going, shades it (one packet of shadow rays) and lets the ray on through a
-  // peeled skin. Which rays share a packet is fixed by the caller, so the result does not
-  // depend on the thread count. With `info`, info[i] describes out[i] too.
+  // Rays go to Embree as packets: one finds every ray's nearest opaque surface, then a
+  // round per peeled skin in front of it; the shadow rays of all surfaces seen go out
+  // together afterwards. Which rays share a packet is fixed by the caller, so the result
+  // does not depend on the thread count. With `info`, info[i] describes out[i] too.
   void trace_packet(const Vec3& origin, const PacketRays& rays, Vec3* out, SampleInfo* info = nullptr) const {
+    Packet nearest;
+    for (int i = 0; i < rays.count; ++i) nearest.add(i, origin, rays.dir[std::size_t(i)], 0.0f, kFar);
+    nearest.intersect(scenes_[kOpaque].scene, RTC_INTERSECT_CONTEXT_FLAG_COHERENT);
+    Surfaces seen;
     std::array<float, kPacket> throughput, tnear;
     std::array<bool, kPacket> going;
     for (int i = 0; i < kPacket; ++i) {
@@ -195,17 +204,16 @@ class FrameTracer {
       going[std::size_t(i)] = i < rays.count;
     }
     for (int layer = 0; layer < kMaxLayersCrossed; ++layer) {
-      Packet p;
-      for (int i = 0; i < kPacket; ++i)
-        if (going[std::size_t(i)]) p.add(i, origin, rays.dir[std::size_t(i)], tnear[std::size_t(i)], kAnyMask);
-      if (!p.any) return;
-      p.intersect(scene_.scene, RTC_INTERSECT_CONTEXT_FLAG_COHERENT);
-      // Surfaces seen in this round, each with the share of the pixel it gets.
-      std::array<Shading, kPacket> seen;
-      std::array<float, kPacket> share{};
-      for (int i = 0; i < kPacket; ++i) {
-        if (!p.valid[i]) continue;
+      Packet skin;  // the next skin in front of each ray's opaque surface
+      for (int i = 0; i < rays.count && has_skins_; ++i)
+        if (going[std::size_t(i)]) skin.add(i, origin, rays.dir[std::size_t(i)], tnear[std::size_t(i)], nearest.rh.ray.tfar[i]);
+      if (skin.any) skin.intersect(scenes_[kSkins].scene, RTC_INTERSECT_CONTEXT_FLAG_COHERENT);
+      bool any = false;
+      for (int i = 0; i < rays.count; ++i) {
         const auto li = std::size_t(i);
+        if (!going[li]) continue;
+        const bool through_skin = skin.valid[i] && skin.rh.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID;
+        const Packet& p = through_skin ? skin : nearest;
         const Vec3& dir = rays.dir[li];
         if (p.rh.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID) {
           out[i] += throughput[li] * look_.background;
@@ -213,13 +221,12 @@ class FrameTracer {
           going[li] = false;
           continue;
         }
-        const std::uint32_t tri = triangle(p.rh.hit.geomID[i], p.rh.hit.primID[i]);
+        const std::uint32_t tri = ids_[through_skin ? kSkins : kOpaque][p.rh.hit.primID[i]];
         const float alpha = mesh_.opacity[tri];
         const bool entering = tri_normal_[tri].dot(dir) < 0.0f;
-        if (alpha >= 1.0f || entering) {
-          seen[li] = prepare(tri, p.rh.hit.u[i], p.rh.hit.v[i], p.rh.ray.tfar[i], origin, dir, rays.key[li]);
-          share[li] = alpha >= 1.0f ? throughput[li] : throughput[li] * alpha;
-        }
+        if (alpha >= 1.0f || entering)
+          seen.add({prepare(tri, p.rh.hit.u[i], p.rh.hit.v[i], p.rh.ray.tfar[i], origin, dir, rays.key[li]),
+                    alpha >= 1.0f ? throughput[li] : throughput[li] * alpha, i});
         if (alpha >= 1.0f) {
           going[li] = false;
         } else if (entering) {  // a peeled skin: its own colour, then what is behind it
@@ -227,16 +234,18 @@ class FrameTracer {
           if (throughput[li] < 1.0f / 1024.0f) going[li] = false;
         }
         tnear[li] = p.rh.ray.tfar[i] + eps_;
+        any = any || going[li];
       }
-      std::array<float, kPacket> visible{};
-      visibility(seen, share, visible);
-      for (int i = 0; i < kPacket; ++i) {
-        const auto li = std::size_t(i);
-        if (!(share[li] > 0.0f)) continue;
-        const float light = seen[li].light(look_.intensity, visible[li]);
-        out[i] += share[li] * (seen[li].albedo * light);
-        if (info) record(seen[li], share[li], light, layer == 0, info[i]);
-      }
+      if (!any) break;
+    }
+    std::array<float, kMaxSurfaces> visible;
+    visibility(seen, visible);
+    // Per ray, its surfaces in the order they were met.
+    for (int k = 0; k < seen.count; ++k) {
+      const Surface& f = seen.at[std::size_t(k)];
+      const float light = f.shading.light(look_.intensity, visible[std::size_t(k)]);
+      out[f.lane] += f.share * (f.shading.albedo * light);
+      if (info) record(f.shading, f.share, light, info[f.lane]);
     }
   }
 
@@ -253,11 +262,24 @@ class FrameTracer {
   }
 
  private:
-  // Adds a shaded surface to a sample's info. A share of 1 in the first round is an opaque
-  // surface in front of everything else.
-  void record(const Shading& seen, float share, float light, bool first_round, SampleInfo& info) const {
+  // A surface a primary ray meets, with the share of its pixel it gets.
+  struct Surface {
+    Shading shading;
+    float share;
+    int lane;
+  };
+  static constexpr int kMaxSurfaces = kPacket * kMaxLayersCrossed;
+  struct Surfaces {
+    std::array<Surface, kMaxSurfaces> at;
+    int count = 0;
+    void add(const Surface& f) { at[std::size_t(count++)] = f; }
+  };
+
+  // Adds a shaded surface to a sample's info. A share of 1 is an opaque surface with
+  // nothing in front of it.
+  void record(const Shading& seen, float share, float light, SampleInfo& info) const {
     info.plain += share * ((seen.printed ? look_.paper : seen.albedo) * light);
-    if (first_round && seen.printed && share == 1.0f) {
+    if (seen.printed && share == 1.0f) {
       info.print_tri = seen.tri;
       info.lighting = light;
     }
@@ -271,14 +293,14 @@ class FrameTracer {
 
     Packet() {
       for (int i = 0; i < kPacket; ++i) {
-        set_lane(rh.ray, i, Vec3::Zero(), Vec3(0, 0, 1), 0.0f, 0u);
+        set_lane(rh.ray, i, Vec3::Zero(), Vec3(0, 0, 1), 0.0f, kFar);
         rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
       }
     }
-    void add(int i, const Vec3& o, const Vec3& d, float tnear, unsigned mask) {
+    void add(int i, const Vec3& o, const Vec3& d, float tnear, float tfar) {
       valid[i] = -1;
       any = true;
-      set_lane(rh.ray, i, o, d, tnear, mask);
+      set_lane(rh.ray, i, o, d, tnear, tfar);
     }
     void intersect(RTCScene scene, RTCIntersectContextFlags flags) {
       RTCIntersectContext ctx;
@@ -293,56 +315,66 @@ class FrameTracer {
     }
   };
 
-  // visible[i]: how much of the light reaches seen[i] (lanes with share[i] > 0 and a shadow
-  // ray to cast): 0 behind anything opaque, reduced by every peeled skin the shadow ray
-  // passes into. Without skins one any-hit packet answers it; with skins the hits are walked
-  // in order, a closest-hit packet per round.
-  void visibility(const std::array<Shading, kPacket>& seen, const std::array<float, kPacket>& share,
-                  std::array<float, kPacket>& visible) const {
-    std::array<float, kPacket> tnear{};
+  // visible[k]: how much of the light reaches surface k: 0 behind anything opaque, reduced
+  // by every peeled skin the shadow ray passes into. The shadow rays go out 16 at a time in
+  // the surfaces' order, so packets are full even where few rays of a round have one.
+  void visibility(const Surfaces& seen, std::array<float, kMaxSurfaces>& visible) const {
     Packet p;
+    std::array<int, kPacket> surface{};
+    int n = 0;
+    for (int k = 0; k < seen.count; ++k) {
+      const Shading& f = seen.at[std::size_t(k)].shading;
+      visible[std::size_t(k)] = 1.0f;
+      if (!(f.weight > 0.0f)) continue;
+      surface[std::size_t(n)] = k;
+      p.add(n, f.shadow_from, f.to_light, 0.0f, kFar);
+      if (++n == kPacket) {
+        shadow_packet(p, surface, seen, visible);
+        p = Packet();
+        n = 0;
+      }
+    }
+    if (n > 0) shadow_packet(p, surface, seen, visible);
+  }
+
+  // Lane i of p is the shadow ray of surface `surface[i]`.
+  void shadow_packet(Packet& p, const std::array<int, kPacket>& surface, const Surfaces& seen,
+                     std::array<float, kMaxSurfaces>& visible) const {
+    p.occluded(scenes_[kOpaque].scene);
+    Packet skin;
     for (int i = 0; i < kPacket; ++i) {
-      const auto li = std::size_t(i);
-      visible[li] = 1.0f;
-      if (share[li] > 0.0f && seen[li].weight > 0.0f)
-        p.add(i, seen[li].shadow_from, seen[li].to_light, 0.0f, ids_[1].empty() ? kOpaqueMask : kAnyMask);
+      if (!p.valid[i]) continue;
+      if (p.rh.ray.tfar[i] < 0.0f)
+        visible[std::size_t(surface[std::size_t(i)])] = 0.0f;
+      else if (has_skins_)
+        skin.add(i, seen.at[std::size_t(surface[std::size_t(i)])].shading.shadow_from,
+                 seen.at[std::size_t(surface[std::size_t(i)])].shading.to_light, 0.0f, kFar);
     }
-    if (!p.any) return;
-    if (ids_[1].empty()) {
-      p.occluded(scene_.scene);
-      for (int i = 0; i < kPacket; ++i)
-        if (p.valid[i] && p.rh.ray.tfar[i] < 0.0f) visible[std::size_t(i)] = 0.0f;
-      return;
-    }
-    for (int layer = 0; layer < kMaxLayersCrossed && p.any; ++layer) {
-      p.intersect(scene_.scene, RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT);
+    for (int layer = 0; layer < kMaxLayersCrossed && skin.any; ++layer) {
+      skin.intersect(scenes_[kSkins].scene, RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT);
       Packet next;
       for (int i = 0; i < kPacket; ++i) {
-        const auto li = std::size_t(i);
-        if (!p.valid[i] || p.rh.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID) continue;
-        if (p.rh.hit.geomID[i] == 0) {
-          visible[li] = 0.0f;
+        if (!skin.valid[i] || skin.rh.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID) continue;
+        const Shading& f = seen.at[std::size_t(surface[std::size_t(i)])].shading;
+        float& v = visible[std::size_t(surface[std::size_t(i)])];
+        const std::uint32_t tri = ids_[kSkins][skin.rh.hit.primID[i]];
+        if (tri_normal_[tri].dot(f.to_light) < 0.0f) v *= 1.0f - mesh_.opacity[tri];
+        if (v < 1.0f / 1024.0f) {
+          v = 0.0f;
           continue;
         }
-        const std::uint32_t tri = triangle(1, p.rh.hit.primID[i]);
-        if (tri_normal_[tri].dot(seen[li].to_light) < 0.0f) visible[li] *= 1.0f - mesh_.opacity[tri];
-        if (visible[li] < 1.0f / 1024.0f) {
-          visible[li] = 0.0f;
-          continue;
-        }
-        tnear[li] = p.rh.ray.tfar[i] + eps_;
-        next.add(i, seen[li].shadow_from, seen[li].to_light, tnear[li], kAnyMask);
+        next.add(i, f.shadow_from, f.to_light, skin.rh.ray.tfar[i] + eps_, kFar);
       }
-      p = next;
+      skin = next;
     }
   }
 
-  static void set_lane(RTCRay16& r, int i, const Vec3& o, const Vec3& d, float tnear, unsigned mask) {
+  static void set_lane(RTCRay16& r, int i, const Vec3& o, const Vec3& d, float tnear, float tfar) {
     r.org_x[i] = o.x(); r.org_y[i] = o.y(); r.org_z[i] = o.z();
     r.dir_x[i] = d.x(); r.dir_y[i] = d.y(); r.dir_z[i] = d.z();
     r.tnear[i] = tnear;
-    r.tfar[i] = std::numeric_limits<float>::infinity();
-    r.mask[i] = mask;
+    r.tfar[i] = tfar;
+    r.mask[i] = ~0u;
     r.time[i] = 0.0f;
     r.flags[i] = 0;
     r.id[i] = 0;
@@ -362,23 +394,24 @@ class FrameTracer {
     float extent = 0.0f;
     for (const auto& p : mesh_.position) extent = std::max({extent, std::abs(p[0]), std::abs(p[1]), std::abs(p[2])});
     eps_ = std::max(1e-4f, 2e-5f * extent);
-    // One copy of the vertices for both geometries; Embree reads up to 16 bytes at a time,
+    // One copy of the vertices for both scenes; Embree reads up to 16 bytes at a time,
     // hence the padding.
     vertices_.resize(3 * nv + 4, 0.0f);
     for (std::size_t i = 0; i < nv; ++i)
       for (std::size_t c = 0; c < 3; ++c) vertices_[3 * i + c] = mesh_.position[i][c];
-    attach(device, 0, kOpaqueMask);
-    attach(device, 1, kSkinMask);
-    // Robust: no shortcuts that let rays slip between triangles sharing an edge.
-    rtcSetSceneFlags(scene_.scene, RTC_SCENE_FLAG_ROBUST);
-    rtcSetSceneBuildQuality(scene_.scene, RTC_BUILD_QUALITY_MEDIUM);
-    rtcCommitScene(scene_.scene);
+    has_skins_ = !ids_[kSkins].empty();
+    for (Layer g : {kOpaque, kSkins}) {
+      attach(device, g);
+      // Robust: no shortcuts that let rays slip between triangles sharing an edge.
+      rtcSetSceneFlags(scenes_[g].scene, RTC_SCENE_FLAG_ROBUST);
+      rtcSetSceneBuildQuality(scenes_[g].scene, RTC_BUILD_QUALITY_MEDIUM);
+      rtcCommitScene(scenes_[g].scene);
+    }
     check_device(device, "building the scene");
   }
 
-  // Puts the triangles ids_[g] into the scene as geometry g; its primitive p is triangle
-  // ids_[g][p].
-  void attach(RTCDevice device, unsigned g, unsigned mask) {
+  // Puts the triangles ids_[g] into scene g; its primitive p is triangle ids_[g][p].
+  void attach(RTCDevice device, Layer g) {
     const std::vector<std::uint32_t>& tris = ids_[g];
     if (tris.empty()) return;
     RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
@@ -389,13 +422,10 @@ class FrameTracer {
     check_device(device, "allocating geometry");
     for (std::size_t p = 0; p < tris.size(); ++p)
       for (std::size_t c = 0; c < 3; ++c) ib[3 * p + c] = mesh_.triangles[tris[p]][c];
-    rtcSetGeometryMask(geom, mask);
     rtcCommitGeometry(geom);
-    rtcAttachGeometryByID(scene_.scene, geom, g);
+    rtcAttachGeometry(scenes_[g].scene, geom);
     rtcReleaseGeometry(geom);
   }
-
-  std::uint32_t triangle(unsigned geom, unsigned prim) const { return ids_[geom][prim]; }
 
   Vec3 albedo(std::uint32_t tri, float u, float v) const {
     const float shade = mesh_.shade[tri];
@@ -440,7 +470,7 @@ class FrameTracer {
       ng = -ng;
       n = -n;
     }
-    Shading s;
+    Shading s{};
     // Shadow rays aim at a random point of the light's disc, which makes the penumbrae;
     // the cosine term takes the disc's centre: over a disc this small it varies by less
     // than its own noise would add, and a noise-free shading lets adaptive sampling find
@@ -471,8 +501,9 @@ class FrameTracer {
   const Texture& texture_;
   std::vector<float> vertices_;
   std::vector<Vec3> tri_normal_;
-  std::array<std::vector<std::uint32_t>, 2> ids_;  // triangles of geometry 0 (opaque) and 1 (skins)
-  EmbreeScene scene_;
+  std::array<std::vector<std::uint32_t>, 2> ids_;  // triangles of scene kOpaque and kSkins
+  std::array<EmbreeScene, 2> scenes_;
+  bool has_skins_ = false;
   float eps_ = 1e-4f;
 };
 
