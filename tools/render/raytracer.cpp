@@ -15,6 +15,7 @@
 #include "kernels/parallel.hpp"
 #include "tools/render/hash.hpp"
 #include "tools/render/print.hpp"
+#include "tools/render/quads.hpp"
 
 namespace papertear::render {
 
@@ -221,11 +222,13 @@ class FrameTracer {
           going[li] = false;
           continue;
         }
-        const std::uint32_t tri = ids_[through_skin ? kSkins : kOpaque][p.rh.hit.primID[i]];
+        const TrianglePoint hit = on_triangle(quads_[through_skin ? kSkins : kOpaque][p.rh.hit.primID[i]],
+                                              p.rh.hit.u[i], p.rh.hit.v[i]);
+        const std::uint32_t tri = hit.triangle;
         const float alpha = mesh_.opacity[tri];
         const bool entering = tri_normal_[tri].dot(dir) < 0.0f;
         if (alpha >= 1.0f || entering)
-          seen.add({prepare(tri, p.rh.hit.u[i], p.rh.hit.v[i], p.rh.ray.tfar[i], origin, dir, rays.key[li]),
+          seen.add({prepare(tri, hit.u, hit.v, p.rh.ray.tfar[i], origin, dir, rays.key[li]),
                     alpha >= 1.0f ? throughput[li] : throughput[li] * alpha, i});
         if (alpha >= 1.0f) {
           going[li] = false;
@@ -357,7 +360,8 @@ class FrameTracer {
         if (!skin.valid[i] || skin.rh.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID) continue;
         const Shading& f = seen.at[std::size_t(surface[std::size_t(i)])].shading;
         float& v = visible[std::size_t(surface[std::size_t(i)])];
-        const std::uint32_t tri = ids_[kSkins][skin.rh.hit.primID[i]];
+        const std::uint32_t tri =
+            on_triangle(quads_[kSkins][skin.rh.hit.primID[i]], skin.rh.hit.u[i], skin.rh.hit.v[i]).triangle;
         if (tri_normal_[tri].dot(f.to_light) < 0.0f) v *= 1.0f - mesh_.opacity[tri];
         if (v < 1.0f / 1024.0f) {
           v = 0.0f;
@@ -383,13 +387,14 @@ class FrameTracer {
   void build(RTCDevice device) {
     const std::size_t nv = mesh_.vertex_count(), nt = mesh_.triangle_count();
     tri_normal_.resize(nt);
+    std::array<std::vector<std::uint32_t>, 2> tris;  // of scene kOpaque and kSkins
     for (std::uint32_t t = 0; t < nt; ++t) {
       const auto& v = mesh_.triangles[t];
       const Vec3 a = vec(mesh_.position[v[0]]), b = vec(mesh_.position[v[1]]), c = vec(mesh_.position[v[2]]);
       const Vec3 n = (b - a).cross(c - a);
       const float len = n.norm();
       tri_normal_[t] = len > 0.0f ? Vec3(n / len) : Vec3(0, 0, 1);
-      (mesh_.opacity[t] < 1.0f ? ids_[1] : ids_[0]).push_back(t);
+      tris[mesh_.opacity[t] < 1.0f ? kSkins : kOpaque].push_back(t);
     }
     float extent = 0.0f;
     for (const auto& p : mesh_.position) extent = std::max({extent, std::abs(p[0]), std::abs(p[1]), std::abs(p[2])});
@@ -399,8 +404,9 @@ class FrameTracer {
     vertices_.resize(3 * nv + 4, 0.0f);
     for (std::size_t i = 0; i < nv; ++i)
       for (std::size_t c = 0; c < 3; ++c) vertices_[3 * i + c] = mesh_.position[i][c];
-    has_skins_ = !ids_[kSkins].empty();
+    has_skins_ = !tris[kSkins].empty();
     for (Layer g : {kOpaque, kSkins}) {
+      quads_[g] = pair_triangles(mesh_, tris[g]);
       attach(device, g);
       // Robust: no shortcuts that let rays slip between triangles sharing an edge.
       rtcSetSceneFlags(scenes_[g].scene, RTC_SCENE_FLAG_ROBUST);
@@ -410,18 +416,18 @@ class FrameTracer {
     check_device(device, "building the scene");
   }
 
-  // Puts the triangles ids_[g] into scene g; its primitive p is triangle ids_[g][p].
+  // Puts the quads quads_[g] into scene g; its primitive p is quads_[g][p].
   void attach(RTCDevice device, Layer g) {
-    const std::vector<std::uint32_t>& tris = ids_[g];
-    if (tris.empty()) return;
-    RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    const std::vector<TracedQuad>& quads = quads_[g];
+    if (quads.empty()) return;
+    RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_QUAD);
     rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, vertices_.data(), 0,
                                3 * sizeof(float), mesh_.vertex_count());
-    auto* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                                              3 * sizeof(unsigned), tris.size()));
+    auto* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT4,
+                                                              4 * sizeof(unsigned), quads.size()));
     check_device(device, "allocating geometry");
-    for (std::size_t p = 0; p < tris.size(); ++p)
-      for (std::size_t c = 0; c < 3; ++c) ib[3 * p + c] = mesh_.triangles[tris[p]][c];
+    for (std::size_t p = 0; p < quads.size(); ++p)
+      for (std::size_t c = 0; c < 4; ++c) ib[4 * p + c] = quads[p].vertex[c];
     rtcCommitGeometry(geom);
     rtcAttachGeometry(scenes_[g].scene, geom);
     rtcReleaseGeometry(geom);
@@ -501,7 +507,7 @@ class FrameTracer {
   const Texture& texture_;
   std::vector<float> vertices_;
   std::vector<Vec3> tri_normal_;
-  std::array<std::vector<std::uint32_t>, 2> ids_;  // triangles of scene kOpaque and kSkins
+  std::array<std::vector<TracedQuad>, 2> quads_;  // primitives of scene kOpaque and kSkins
   std::array<EmbreeScene, 2> scenes_;
   bool has_skins_ = false;
   float eps_ = 1e-4f;

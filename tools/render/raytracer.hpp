@@ -6,8 +6,8 @@
 // packets of 16 (4 x 4 pixel blocks; shadow rays of the same lanes as one packet), layer by
 // layer through peeled skins. Which rays share a packet depends only on the tile, and every
 // "random" number (sub-pixel position, point on the light) is hashed from (pixel, sample),
-// so a frame has the same bytes on any number of threads. Opaque triangles and skins are
-// two geometries of one scene, told apart by ray masks.
+// so a frame has the same bytes on any number of threads. Opaque surfaces and peeled skins
+// are two Embree scenes, their triangles paired into quads (quads.hpp).
 //
 // Shading: a directional key light with soft shadows (shadow rays towards a jittered point
 // of the light's disc), a sky term brighter from above, Lambert surfaces in linear light,
