@@ -217,6 +217,38 @@ TEST_CASE("frayed fibres stick out of torn faces only, the same way every time",
       if (narrow.position[v][0] < cut + 0.1f) CHECK(narrow.position[v][0] <= cut + 0.1f * 1.5f + 1e-4f);
 }
 
+TEST_CASE("the surface mesh has the same bytes on any number of threads", "[render]") {
+  // Two tears, so that fibres come from several of the fixed chunks of faces.
+  World w = torn_sheet(40, 30, 3, 1.0f);
+  split_off(w, [](int, int j, int) { return j >= 20; });
+  const MeshOptions options{.fray = true, .fray_length = 0.45f, .layer_opacity = 0.7f};
+  const SurfaceMesh one = build_surface_mesh(w, options);
+  REQUIRE(open_faces(w).size() > 3 * 1024);
+  for (int threads : {2, 3}) {
+    SurfaceMesh m;
+    tbb::task_arena(threads).execute([&] { m = build_surface_mesh(w, options); });
+    INFO(threads << " threads");
+    CHECK(m.position == one.position);
+    CHECK(m.normal == one.normal);
+    CHECK(m.uv == one.uv);
+    CHECK(m.node == one.node);
+    CHECK(m.original_node == one.original_node);
+    CHECK(m.triangles == one.triangles);
+    CHECK(m.material == one.material);
+    CHECK(m.kind == one.kind);
+    CHECK(m.cell == one.cell);
+    CHECK(m.opacity == one.opacity);
+    CHECK(m.shade == one.shade);
+  }
+  // Each fibre triangle has three vertices of its own, in order after the faces'.
+  const SurfaceMesh plain = build_surface_mesh(w, {.fray = false});
+  REQUIRE(one.triangle_count() > plain.triangle_count() + 1000);
+  for (std::size_t t = plain.triangle_count(); t < one.triangle_count(); ++t) {
+    const auto first = std::uint32_t(plain.vertex_count() + 3 * (t - plain.triangle_count()));
+    CHECK(one.triangles[t] == std::array<std::uint32_t, 3>{first, first + 1, first + 2});
+  }
+}
+
 TEST_CASE("the ray tracer's quads are the mesh's triangles in pairs, hits mapped back", "[render]") {
   const SurfaceMesh mesh = build_surface_mesh(torn_sheet(8, 6, 3, 1.0f), {.fray = true});
   std::vector<std::uint32_t> tris(mesh.triangle_count());
