@@ -226,7 +226,7 @@ class FrameTracer {
                                               p.rh.hit.u[i], p.rh.hit.v[i]);
         const std::uint32_t tri = hit.triangle;
         const float alpha = mesh_.opacity[tri];
-        const bool entering = tri_normal_[tri].dot(dir) < 0.0f;
+        const bool entering = this->entering(tri, dir);
         if (alpha >= 1.0f || entering)
           seen.add({prepare(tri, hit.u, hit.v, p.rh.ray.tfar[i], origin, dir, rays.key[li]),
                     alpha >= 1.0f ? throughput[li] : throughput[li] * alpha, i});
@@ -362,7 +362,7 @@ class FrameTracer {
         float& v = visible[std::size_t(surface[std::size_t(i)])];
         const std::uint32_t tri =
             on_triangle(quads_[kSkins][skin.rh.hit.primID[i]], skin.rh.hit.u[i], skin.rh.hit.v[i]).triangle;
-        if (tri_normal_[tri].dot(f.to_light) < 0.0f) v *= 1.0f - mesh_.opacity[tri];
+        v *= 1.0f - mesh_.opacity[tri];  // entering: the scene's filter drops the rest
         if (v < 1.0f / 1024.0f) {
           v = 0.0f;
           continue;
@@ -428,10 +428,30 @@ class FrameTracer {
     check_device(device, "allocating geometry");
     for (std::size_t p = 0; p < quads.size(); ++p)
       for (std::size_t c = 0; c < 4; ++c) ib[4 * p + c] = quads[p].vertex[c];
+    if (g == kSkins) {
+      rtcSetGeometryUserData(geom, const_cast<FrameTracer*>(this));
+      rtcSetGeometryIntersectFilterFunction(geom, &FrameTracer::only_entering);
+    }
     rtcCommitGeometry(geom);
     rtcAttachGeometry(scenes_[g].scene, geom);
     rtcReleaseGeometry(geom);
   }
+
+  // Embree filter of the skin scene: a ray leaving a skin (seeing its back) neither sees
+  // it nor is dimmed by it, so such hits are dropped inside the traversal instead of costing
+  // a round of the walk each.
+  static void only_entering(const RTCFilterFunctionNArguments* args) {
+    const auto* self = static_cast<const FrameTracer*>(args->geometryUserPtr);
+    for (unsigned i = 0; i < args->N; ++i) {
+      if (args->valid[i] == 0) continue;
+      const TrianglePoint hit = on_triangle(self->quads_[kSkins][RTCHitN_primID(args->hit, args->N, i)],
+                                            RTCHitN_u(args->hit, args->N, i), RTCHitN_v(args->hit, args->N, i));
+      const Vec3 dir(RTCRayN_dir_x(args->ray, args->N, i), RTCRayN_dir_y(args->ray, args->N, i),
+                     RTCRayN_dir_z(args->ray, args->N, i));
+      if (!self->entering(hit.triangle, dir)) args->valid[i] = 0;
+    }
+  }
+  bool entering(std::uint32_t tri, const Vec3& dir) const { return tri_normal_[tri].dot(dir) < 0.0f; }
 
   Vec3 albedo(std::uint32_t tri, float u, float v) const {
     const float shade = mesh_.shade[tri];
