@@ -34,7 +34,8 @@ struct TrianglePoint {
 };
 
 // The triangles `tris` (ids into mesh.triangles) as quads, consecutive pairs joined where
-// they share the diagonal; the quads keep the triangles' order.
+// they share the diagonal; the quads keep the triangles' order. Runs in parallel in fixed
+// chunks: the result does not depend on the thread count.
 std::vector<TracedQuad> pair_triangles(const SurfaceMesh& mesh, const std::vector<std::uint32_t>& tris);
 
 // The mesh triangle and its barycentrics at quad coordinates (u, v) of an Embree hit.

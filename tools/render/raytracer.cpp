@@ -179,10 +179,11 @@ class FrameTracer {
   static constexpr std::uint32_t kNoTriangle = std::numeric_limits<std::uint32_t>::max();
   // What the first pass keeps of a sample besides its colour, for choosing a pixel's extra
   // samples (Renderer::draw).
+  // Trivially constructible: a frame's worth is allocated without being cleared.
   struct SampleInfo {
-    Vec3 plain;             // the colour with the print left blank: shading, edges, shadows
-    float lighting = 0.0f;  // when the sample sees print directly: colour = print x lighting
-    std::uint32_t print_tri = kNoTriangle;
+    Vec3 plain;          // the colour with the print left blank: shading, edges, shadows
+    float lighting;      // when the sample sees print directly: colour = print x lighting
+    std::uint32_t print_tri;  // that print triangle, or kNoTriangle
   };
 
   // The colours of up to kPacket primary rays from one origin: out[i] for rays.dir[i].
@@ -199,7 +200,7 @@ class FrameTracer {
     std::array<bool, kPacket> going;
     for (int i = 0; i < kPacket; ++i) {
       if (i < rays.count) out[i] = Vec3::Zero();
-      if (info && i < rays.count) info[i] = SampleInfo{Vec3::Zero()};
+      if (info && i < rays.count) info[i] = SampleInfo{Vec3::Zero(), 0.0f, kNoTriangle};
       throughput[std::size_t(i)] = 1.0f;
       tnear[std::size_t(i)] = 0.0f;
       going[std::size_t(i)] = i < rays.count;
@@ -385,25 +386,8 @@ class FrameTracer {
   }
 
   void build(RTCDevice device) {
-    const std::size_t nv = mesh_.vertex_count(), nt = mesh_.triangle_count();
-    tri_normal_.resize(nt);
-    std::array<std::vector<std::uint32_t>, 2> tris;  // of scene kOpaque and kSkins
-    for (std::uint32_t t = 0; t < nt; ++t) {
-      const auto& v = mesh_.triangles[t];
-      const Vec3 a = vec(mesh_.position[v[0]]), b = vec(mesh_.position[v[1]]), c = vec(mesh_.position[v[2]]);
-      const Vec3 n = (b - a).cross(c - a);
-      const float len = n.norm();
-      tri_normal_[t] = len > 0.0f ? Vec3(n / len) : Vec3(0, 0, 1);
-      tris[mesh_.opacity[t] < 1.0f ? kSkins : kOpaque].push_back(t);
-    }
-    float extent = 0.0f;
-    for (const auto& p : mesh_.position) extent = std::max({extent, std::abs(p[0]), std::abs(p[1]), std::abs(p[2])});
-    eps_ = std::max(1e-4f, 2e-5f * extent);
-    // One copy of the vertices for both scenes; Embree reads up to 16 bytes at a time,
-    // hence the padding.
-    vertices_.resize(3 * nv + 4, 0.0f);
-    for (std::size_t i = 0; i < nv; ++i)
-      for (std::size_t c = 0; c < 3; ++c) vertices_[3 * i + c] = mesh_.position[i][c];
+    const std::array<std::vector<std::uint32_t>, 2> tris = sort_triangles();
+    copy_vertices();
     has_skins_ = !tris[kSkins].empty();
     for (Layer g : {kOpaque, kSkins}) {
       quads_[g] = pair_triangles(mesh_, tris[g]);
@@ -416,6 +400,47 @@ class FrameTracer {
     check_device(device, "building the scene");
   }
 
+  // Each triangle's unit normal; the triangles of scene kOpaque and of kSkins, ascending.
+  // In parallel over fixed chunks, the lists joined in chunk order.
+  std::array<std::vector<std::uint32_t>, 2> sort_triangles() {
+    constexpr std::size_t kChunk = 16384;
+    const std::size_t nt = mesh_.triangle_count();
+    tri_normal_.resize(nt);
+    std::vector<std::array<std::vector<std::uint32_t>, 2>> parts(chunk_count(nt, kChunk));
+    parallel_chunks(nt, kChunk, [&](std::size_t begin, std::size_t end, std::size_t c) {
+      for (auto t = std::uint32_t(begin); t < end; ++t) {
+        const auto& v = mesh_.triangles[t];
+        const Vec3 a = vec(mesh_.position[v[0]]), b = vec(mesh_.position[v[1]]), d = vec(mesh_.position[v[2]]);
+        const Vec3 n = (b - a).cross(d - a);
+        const float len = n.norm();
+        tri_normal_[t] = len > 0.0f ? Vec3(n / len) : Vec3(0, 0, 1);
+        parts[c][mesh_.opacity[t] < 1.0f ? kSkins : kOpaque].push_back(t);
+      }
+    });
+    std::array<std::vector<std::uint32_t>, 2> tris;
+    for (Layer g : {kOpaque, kSkins})
+      for (const auto& part : parts) tris[g].insert(tris[g].end(), part[g].begin(), part[g].end());
+    return tris;
+  }
+
+  // One copy of the vertices for both scenes (Embree reads up to 16 bytes at a time, hence
+  // the padding), and the ray offset off surfaces scaled to the mesh's extent.
+  void copy_vertices() {
+    constexpr std::size_t kChunk = 65536;
+    const std::size_t nv = mesh_.vertex_count();
+    vertices_.resize(3 * nv + 4, 0.0f);
+    std::vector<float> extent(chunk_count(nv, kChunk), 0.0f);
+    parallel_chunks(nv, kChunk, [&](std::size_t begin, std::size_t end, std::size_t c) {
+      for (std::size_t i = begin; i < end; ++i)
+        for (std::size_t k = 0; k < 3; ++k) {
+          vertices_[3 * i + k] = mesh_.position[i][k];
+          extent[c] = std::max(extent[c], std::abs(mesh_.position[i][k]));
+        }
+    });
+    eps_ = 1e-4f;
+    for (float e : extent) eps_ = std::max(eps_, 2e-5f * e);
+  }
+
   // Puts the quads quads_[g] into scene g; its primitive p is quads_[g][p].
   void attach(RTCDevice device, Layer g) {
     const std::vector<TracedQuad>& quads = quads_[g];
@@ -426,8 +451,10 @@ class FrameTracer {
     auto* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT4,
                                                               4 * sizeof(unsigned), quads.size()));
     check_device(device, "allocating geometry");
-    for (std::size_t p = 0; p < quads.size(); ++p)
-      for (std::size_t c = 0; c < 4; ++c) ib[4 * p + c] = quads[p].vertex[c];
+    parallel_chunks(quads.size(), 65536, [&](std::size_t begin, std::size_t end, std::size_t) {
+      for (std::size_t p = begin; p < end; ++p)
+        for (std::size_t c = 0; c < 4; ++c) ib[4 * p + c] = quads[p].vertex[c];
+    });
     if (g == kSkins) {
       rtcSetGeometryUserData(geom, const_cast<FrameTracer*>(this));
       rtcSetGeometryIntersectFilterFunction(geom, &FrameTracer::only_entering);
@@ -616,9 +643,14 @@ bool differs_from_neighbours(int width, int height, int x, int y, const Value& v
 }
 
 // One sample per pixel (adaptive sampling's first pass).
+// Its arrays are not cleared when allocated (every pixel is written): the pages are first
+// touched by the threads tracing them, not by one thread beforehand.
 struct FirstPass {
-  std::vector<Vec3> colour;
-  std::vector<FrameTracer::SampleInfo> info;
+  explicit FirstPass(std::size_t pixels)
+      : colour(std::make_unique_for_overwrite<Vec3[]>(pixels)),
+        info(std::make_unique_for_overwrite<FrameTracer::SampleInfo[]>(pixels)) {}
+  std::unique_ptr<Vec3[]> colour;
+  std::unique_ptr<FrameTracer::SampleInfo[]> info;
 };
 
 // What a pixel's remaining samples need. Where it differs from a neighbour in shading, at a
@@ -665,7 +697,7 @@ Image Renderer::draw(const SurfaceMesh& mesh, const Camera& camera) const {
   // Pass 1: one ray per pixel. Pass 2: the remaining samples where a pixel needs them
   // (refinement()). Both passes read only pass 1's results, so the choice is deterministic.
   // Rays go out in packets of consecutive samples in a tile's block order.
-  FirstPass first{std::vector<Vec3>(pixels), std::vector<FrameTracer::SampleInfo>(pixels)};
+  FirstPass first(pixels);
   const auto index = [&](int x, int y) { return std::size_t(y) * std::size_t(s.width) + std::size_t(x); };
   for_each_tile(s.width, s.height, [&](int x0, int y0, int x1, int y1) {
     PacketRays rays;
