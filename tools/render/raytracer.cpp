@@ -315,7 +315,34 @@ class FrameTracer {
     void occluded(RTCScene scene) {
       RTCIntersectContext ctx;
       rtcInitIntersectContext(&ctx);
-      rtcOccluded16(valid, scene, &ctx, &rh.ray);
+      occluded(scene, ctx);
+    }
+    void occluded(RTCScene scene, RTCIntersectContext& ctx) { rtcOccluded16(valid, scene, &ctx, &rh.ray); }
+  };
+
+  // The skins a packet of shadow rays enters, gathered in one traversal by the skin scene's
+  // occlusion filter (which records each hit and rejects it, so the traversal goes on):
+  // per lane the nearest kMaxLayersCrossed, sorted by (t, triangle), whatever order Embree
+  // finds them in.
+  struct SkinHit {
+    float t;
+    std::uint32_t tri;
+    bool operator<(const SkinHit& o) const { return t < o.t || (t == o.t && tri < o.tri); }
+  };
+  struct SkinHits {
+    RTCIntersectContext ctx;  // first: Embree hands the filter a pointer to it
+    std::array<std::array<SkinHit, kMaxLayersCrossed>, kPacket> hit;
+    std::array<int, kPacket> count{};
+    SkinHits() { rtcInitIntersectContext(&ctx); }
+    void add(int lane, const SkinHit& h) {
+      auto& list = hit[std::size_t(lane)];
+      int& n = count[std::size_t(lane)];
+      int at = 0;
+      while (at < n && list[std::size_t(at)] < h) ++at;
+      if (at == kMaxLayersCrossed || (at < n && !(h < list[std::size_t(at)]))) return;  // too far, or seen
+      n = std::min(n + 1, kMaxLayersCrossed);
+      for (int k = n - 1; k > at; --k) list[std::size_t(k)] = list[std::size_t(k - 1)];
+      list[std::size_t(at)] = h;
     }
   };
 
@@ -354,24 +381,26 @@ class FrameTracer {
         skin.add(i, seen.at[std::size_t(surface[std::size_t(i)])].shading.shadow_from,
                  seen.at[std::size_t(surface[std::size_t(i)])].shading.to_light, 0.0f, kFar);
     }
-    for (int layer = 0; layer < kMaxLayersCrossed && skin.any; ++layer) {
-      skin.intersect(scenes_[kSkins].scene, RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT);
-      Packet next;
-      for (int i = 0; i < kPacket; ++i) {
-        if (!skin.valid[i] || skin.rh.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID) continue;
-        const Shading& f = seen.at[std::size_t(surface[std::size_t(i)])].shading;
-        float& v = visible[std::size_t(surface[std::size_t(i)])];
-        const std::uint32_t tri =
-            on_triangle(quads_[kSkins][skin.rh.hit.primID[i]], skin.rh.hit.u[i], skin.rh.hit.v[i]).triangle;
-        v *= 1.0f - mesh_.opacity[tri];  // entering: the scene's filter drops the rest
-        if (v < 1.0f / 1024.0f) {
-          v = 0.0f;
-          continue;
-        }
-        next.add(i, f.shadow_from, f.to_light, skin.rh.ray.tfar[i] + eps_, kFar);
-      }
-      skin = next;
+    if (!skin.any) return;
+    SkinHits hits;
+    skin.occluded(scenes_[kSkins].scene, hits.ctx);
+    for (int i = 0; i < kPacket; ++i)
+      if (skin.valid[i]) visible[std::size_t(surface[std::size_t(i)])] = through_skins(hits, i);
+  }
+
+  // The light let through by the skins a shadow ray enters, nearest first: each dims it by
+  // its opacity, hits closer than eps_ behind the last one counted are the same surface
+  // again, and after kMaxLayersCrossed skins or below 1/1024 it is dark.
+  float through_skins(const SkinHits& hits, int lane) const {
+    float v = 1.0f, next = 0.0f;
+    for (int k = 0; k < hits.count[std::size_t(lane)]; ++k) {
+      const SkinHit& h = hits.hit[std::size_t(lane)][std::size_t(k)];
+      if (h.t < next) continue;
+      v *= 1.0f - mesh_.opacity[h.tri];
+      if (v < 1.0f / 1024.0f) return 0.0f;
+      next = h.t + eps_;
     }
+    return v;
   }
 
   static void set_lane(RTCRay16& r, int i, const Vec3& o, const Vec3& d, float tnear, float tfar) {
@@ -382,7 +411,7 @@ class FrameTracer {
     r.mask[i] = ~0u;
     r.time[i] = 0.0f;
     r.flags[i] = 0;
-    r.id[i] = 0;
+    r.id[i] = unsigned(i);  // the lane, for filters called on single rays
   }
 
   void build(RTCDevice device) {
@@ -458,6 +487,7 @@ class FrameTracer {
     if (g == kSkins) {
       rtcSetGeometryUserData(geom, const_cast<FrameTracer*>(this));
       rtcSetGeometryIntersectFilterFunction(geom, &FrameTracer::only_entering);
+      rtcSetGeometryOccludedFilterFunction(geom, &FrameTracer::gather_entering);
     }
     rtcCommitGeometry(geom);
     rtcAttachGeometry(scenes_[g].scene, geom);
@@ -468,17 +498,37 @@ class FrameTracer {
   // it nor is dimmed by it, so such hits are dropped inside the traversal instead of costing
   // a round of the walk each.
   static void only_entering(const RTCFilterFunctionNArguments* args) {
+    for (unsigned i = 0; i < args->N; ++i)
+      if (args->valid[i] != 0 && !hit_entering(args, i, hit_triangle(args, i))) args->valid[i] = 0;
+  }
+  // The mesh triangle of lane i's candidate hit in a filter of the skin scene, and whether
+  // the ray enters it.
+  static std::uint32_t hit_triangle(const RTCFilterFunctionNArguments* args, unsigned i) {
     const auto* self = static_cast<const FrameTracer*>(args->geometryUserPtr);
-    for (unsigned i = 0; i < args->N; ++i) {
-      if (args->valid[i] == 0) continue;
-      const TrianglePoint hit = on_triangle(self->quads_[kSkins][RTCHitN_primID(args->hit, args->N, i)],
-                                            RTCHitN_u(args->hit, args->N, i), RTCHitN_v(args->hit, args->N, i));
-      const Vec3 dir(RTCRayN_dir_x(args->ray, args->N, i), RTCRayN_dir_y(args->ray, args->N, i),
-                     RTCRayN_dir_z(args->ray, args->N, i));
-      if (!self->entering(hit.triangle, dir)) args->valid[i] = 0;
-    }
+    return on_triangle(self->quads_[kSkins][RTCHitN_primID(args->hit, args->N, i)], RTCHitN_u(args->hit, args->N, i),
+                       RTCHitN_v(args->hit, args->N, i))
+        .triangle;
+  }
+  static bool hit_entering(const RTCFilterFunctionNArguments* args, unsigned i, std::uint32_t tri) {
+    const auto* self = static_cast<const FrameTracer*>(args->geometryUserPtr);
+    const Vec3 dir(RTCRayN_dir_x(args->ray, args->N, i), RTCRayN_dir_y(args->ray, args->N, i),
+                   RTCRayN_dir_z(args->ray, args->N, i));
+    return self->entering(tri, dir);
   }
   bool entering(std::uint32_t tri, const Vec3& dir) const { return tri_normal_[tri].dot(dir) < 0.0f; }
+
+  // Occlusion filter of the skin scene (shadow rays): records the skins entered in the
+  // query's SkinHits and rejects every hit, so that the traversal finds them all.
+  static void gather_entering(const RTCFilterFunctionNArguments* args) {
+    auto* hits = reinterpret_cast<SkinHits*>(args->context);
+    for (unsigned i = 0; i < args->N; ++i) {
+      if (args->valid[i] == 0) continue;
+      const std::uint32_t tri = hit_triangle(args, i);
+      if (hit_entering(args, i, tri))
+        hits->add(int(RTCRayN_id(args->ray, args->N, i)), {RTCRayN_tfar(args->ray, args->N, i), tri});
+      args->valid[i] = 0;
+    }
+  }
 
   Vec3 albedo(std::uint32_t tri, float u, float v) const {
     const float shade = mesh_.shade[tri];
