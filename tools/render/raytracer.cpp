@@ -195,52 +195,20 @@ class FrameTracer {
     Packet nearest;
     for (int i = 0; i < rays.count; ++i) nearest.add(i, origin, rays.dir[std::size_t(i)], 0.0f, kFar);
     nearest.intersect(scenes_[kOpaque].scene, RTC_INTERSECT_CONTEXT_FLAG_COHERENT);
-    Surfaces seen;
-    std::array<float, kPacket> throughput, tnear;
-    std::array<bool, kPacket> going;
-    for (int i = 0; i < kPacket; ++i) {
-      if (i < rays.count) out[i] = Vec3::Zero();
-      if (info && i < rays.count) info[i] = SampleInfo{Vec3::Zero(), 0.0f, kNoTriangle};
-      throughput[std::size_t(i)] = 1.0f;
-      tnear[std::size_t(i)] = 0.0f;
-      going[std::size_t(i)] = i < rays.count;
+    SkinHits skins;  // in front of each ray's opaque surface
+    if (has_skins_) {
+      Packet skin;
+      for (int i = 0; i < rays.count; ++i) skin.add(i, origin, rays.dir[std::size_t(i)], 0.0f, nearest.rh.ray.tfar[i]);
+      skin.occluded(scenes_[kSkins].scene, skins.ctx);
     }
-    for (int layer = 0; layer < kMaxLayersCrossed; ++layer) {
-      Packet skin;  // the next skin in front of each ray's opaque surface
-      for (int i = 0; i < rays.count && has_skins_; ++i)
-        if (going[std::size_t(i)]) skin.add(i, origin, rays.dir[std::size_t(i)], tnear[std::size_t(i)], nearest.rh.ray.tfar[i]);
-      if (skin.any) skin.intersect(scenes_[kSkins].scene, RTC_INTERSECT_CONTEXT_FLAG_COHERENT);
-      bool any = false;
-      for (int i = 0; i < rays.count; ++i) {
-        const auto li = std::size_t(i);
-        if (!going[li]) continue;
-        const bool through_skin = skin.valid[i] && skin.rh.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID;
-        const Packet& p = through_skin ? skin : nearest;
-        const Vec3& dir = rays.dir[li];
-        if (p.rh.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID) {
-          out[i] += throughput[li] * look_.background;
-          if (info) info[i].plain += throughput[li] * look_.background;
-          going[li] = false;
-          continue;
-        }
-        const TrianglePoint hit = on_triangle(quads_[through_skin ? kSkins : kOpaque][p.rh.hit.primID[i]],
-                                              p.rh.hit.u[i], p.rh.hit.v[i]);
-        const std::uint32_t tri = hit.triangle;
-        const float alpha = mesh_.opacity[tri];
-        const bool entering = this->entering(tri, dir);
-        if (alpha >= 1.0f || entering)
-          seen.add({prepare(tri, hit.u, hit.v, p.rh.ray.tfar[i], origin, dir, rays.key[li]),
-                    alpha >= 1.0f ? throughput[li] : throughput[li] * alpha, i});
-        if (alpha >= 1.0f) {
-          going[li] = false;
-        } else if (entering) {  // a peeled skin: its own colour, then what is behind it
-          throughput[li] *= 1.0f - alpha;
-          if (throughput[li] < 1.0f / 1024.0f) going[li] = false;
-        }
-        tnear[li] = p.rh.ray.tfar[i] + eps_;
-        any = any || going[li];
-      }
-      if (!any) break;
+    Surfaces seen;
+    for (int i = 0; i < rays.count; ++i) {
+      out[i] = Vec3::Zero();
+      if (info) info[i] = SampleInfo{Vec3::Zero(), 0.0f, kNoTriangle};
+      follow(origin, rays, i, nearest, skins, seen, [&](const Vec3& background) {
+        out[i] += background;
+        if (info) info[i].plain += background;
+      });
     }
     std::array<float, kMaxSurfaces> visible;
     visibility(seen, visible);
@@ -320,13 +288,14 @@ class FrameTracer {
     void occluded(RTCScene scene, RTCIntersectContext& ctx) { rtcOccluded16(valid, scene, &ctx, &rh.ray); }
   };
 
-  // The skins a packet of shadow rays enters, gathered in one traversal by the skin scene's
+  // The skins each ray of a packet enters, gathered in one traversal by the skin scene's
   // occlusion filter (which records each hit and rejects it, so the traversal goes on):
   // per lane the nearest kMaxLayersCrossed, sorted by (t, triangle), whatever order Embree
   // finds them in.
   struct SkinHit {
     float t;
     std::uint32_t tri;
+    float u, v;  // barycentrics on triangle tri
     bool operator<(const SkinHit& o) const { return t < o.t || (t == o.t && tri < o.tri); }
   };
   struct SkinHits {
@@ -345,6 +314,38 @@ class FrameTracer {
       list[std::size_t(at)] = h;
     }
   };
+
+  // Adds the surfaces ray i of `rays` meets to `seen`, in order: the skins it enters (each
+  // passing on 1 - opacity of what is behind it), then its opaque surface; or, when it
+  // misses that, calls background(its share of the background colour). As the walk of
+  // closest hits did: hits closer than eps_ behind the last are the same surface again, a
+  // ray crosses at most kMaxLayersCrossed surfaces and stops when less than 1/1024 is left.
+  template <class Background>
+  void follow(const Vec3& origin, const PacketRays& rays, int i, const Packet& nearest, const SkinHits& skins,
+              Surfaces& seen, const Background& background) const {
+    const auto li = std::size_t(i);
+    const Vec3& dir = rays.dir[li];
+    float throughput = 1.0f, next = 0.0f;
+    int crossed = 0;
+    for (int k = 0; k < skins.count[li]; ++k) {
+      const SkinHit& h = skins.hit[li][std::size_t(k)];
+      if (h.t < next) continue;
+      if (crossed == kMaxLayersCrossed) return;
+      const float alpha = mesh_.opacity[h.tri];
+      seen.add({prepare(h.tri, h.u, h.v, h.t, origin, dir, rays.key[li]), throughput * alpha, i});
+      ++crossed;
+      throughput *= 1.0f - alpha;
+      if (throughput < 1.0f / 1024.0f) return;
+      next = h.t + eps_;
+    }
+    if (crossed == kMaxLayersCrossed) return;
+    if (nearest.rh.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID) {
+      background(throughput * look_.background);
+      return;
+    }
+    const TrianglePoint hit = on_triangle(quads_[kOpaque][nearest.rh.hit.primID[i]], nearest.rh.hit.u[i], nearest.rh.hit.v[i]);
+    seen.add({prepare(hit.triangle, hit.u, hit.v, nearest.rh.ray.tfar[i], origin, dir, rays.key[li]), throughput, i});
+  }
 
   // visible[k]: how much of the light reaches surface k: 0 behind anything opaque, reduced
   // by every peeled skin the shadow ray passes into. The shadow rays go out 16 at a time in
@@ -486,7 +487,6 @@ class FrameTracer {
     });
     if (g == kSkins) {
       rtcSetGeometryUserData(geom, const_cast<FrameTracer*>(this));
-      rtcSetGeometryIntersectFilterFunction(geom, &FrameTracer::only_entering);
       rtcSetGeometryOccludedFilterFunction(geom, &FrameTracer::gather_entering);
     }
     rtcCommitGeometry(geom);
@@ -494,20 +494,12 @@ class FrameTracer {
     rtcReleaseGeometry(geom);
   }
 
-  // Embree filter of the skin scene: a ray leaving a skin (seeing its back) neither sees
-  // it nor is dimmed by it, so such hits are dropped inside the traversal instead of costing
-  // a round of the walk each.
-  static void only_entering(const RTCFilterFunctionNArguments* args) {
-    for (unsigned i = 0; i < args->N; ++i)
-      if (args->valid[i] != 0 && !hit_entering(args, i, hit_triangle(args, i))) args->valid[i] = 0;
-  }
-  // The mesh triangle of lane i's candidate hit in a filter of the skin scene, and whether
-  // the ray enters it.
-  static std::uint32_t hit_triangle(const RTCFilterFunctionNArguments* args, unsigned i) {
+  // The point of the mesh of lane i's candidate hit in a filter of the skin scene, and
+  // whether the ray enters its triangle.
+  static TrianglePoint hit_point(const RTCFilterFunctionNArguments* args, unsigned i) {
     const auto* self = static_cast<const FrameTracer*>(args->geometryUserPtr);
     return on_triangle(self->quads_[kSkins][RTCHitN_primID(args->hit, args->N, i)], RTCHitN_u(args->hit, args->N, i),
-                       RTCHitN_v(args->hit, args->N, i))
-        .triangle;
+                       RTCHitN_v(args->hit, args->N, i));
   }
   static bool hit_entering(const RTCFilterFunctionNArguments* args, unsigned i, std::uint32_t tri) {
     const auto* self = static_cast<const FrameTracer*>(args->geometryUserPtr);
@@ -517,15 +509,16 @@ class FrameTracer {
   }
   bool entering(std::uint32_t tri, const Vec3& dir) const { return tri_normal_[tri].dot(dir) < 0.0f; }
 
-  // Occlusion filter of the skin scene (shadow rays): records the skins entered in the
-  // query's SkinHits and rejects every hit, so that the traversal finds them all.
+  // Occlusion filter of the skin scene: records the skins a ray enters in the query's
+  // SkinHits and rejects every hit, so that the traversal finds them all. A ray leaving a
+  // skin (seeing its back) neither sees it nor is dimmed by it: such hits are left out.
   static void gather_entering(const RTCFilterFunctionNArguments* args) {
     auto* hits = reinterpret_cast<SkinHits*>(args->context);
     for (unsigned i = 0; i < args->N; ++i) {
       if (args->valid[i] == 0) continue;
-      const std::uint32_t tri = hit_triangle(args, i);
-      if (hit_entering(args, i, tri))
-        hits->add(int(RTCRayN_id(args->ray, args->N, i)), {RTCRayN_tfar(args->ray, args->N, i), tri});
+      const TrianglePoint p = hit_point(args, i);
+      if (hit_entering(args, i, p.triangle))
+        hits->add(int(RTCRayN_id(args->ray, args->N, i)), {RTCRayN_tfar(args->ray, args->N, i), p.triangle, p.u, p.v});
       args->valid[i] = 0;
     }
   }
