@@ -461,11 +461,13 @@ class FrameTracer {
     vertices_.resize(3 * nv + 4, 0.0f);
     std::vector<float> extent(chunk_count(nv, kChunk), 0.0f);
     parallel_chunks(nv, kChunk, [&](std::size_t begin, std::size_t end, std::size_t c) {
+      float e = 0.0f;
       for (std::size_t i = begin; i < end; ++i)
         for (std::size_t k = 0; k < 3; ++k) {
           vertices_[3 * i + k] = mesh_.position[i][k];
-          extent[c] = std::max(extent[c], std::abs(mesh_.position[i][k]));
+          e = std::max(e, std::abs(mesh_.position[i][k]));
         }
+      extent[c] = e;
     });
     eps_ = 1e-4f;
     for (float e : extent) eps_ = std::max(eps_, 2e-5f * e);
@@ -702,10 +704,10 @@ struct FirstPass {
 // meet the same flat surface, lit as the first sample. Flat areas are already converged.
 enum class Refinement { none, rays, print };
 Refinement refinement(const FirstPass& first, int width, int height, int x, int y) {
-  if (differs_from_neighbours(width, height, x, y, [&](std::size_t i) -> const Vec3& { return first.info[i].plain; }))
-    return Refinement::rays;
   if (!differs_from_neighbours(width, height, x, y, [&](std::size_t i) -> const Vec3& { return first.colour[i]; }))
     return Refinement::none;
+  if (differs_from_neighbours(width, height, x, y, [&](std::size_t i) -> const Vec3& { return first.info[i].plain; }))
+    return Refinement::rays;
   const std::size_t i = std::size_t(y) * std::size_t(width) + std::size_t(x);
   return first.info[i].print_tri != FrameTracer::kNoTriangle ? Refinement::print : Refinement::rays;
 }
