@@ -71,7 +71,11 @@ class SrgbEncoder {
   }
   std::uint8_t operator()(float linear) const {
     const float c = std::clamp(linear, 0.0f, 1.0f);
-    return lut_[std::size_t(std::lround(c * float(kSteps)))];
+    // std::lround for x >= 0 without the library call (three per pixel): x - trunc(x) is
+    // exact, so this rounds halves up exactly as lround does.
+    const float x = c * float(kSteps);
+    const auto i = std::size_t(x);
+    return lut_[i + std::size_t(x - float(i) >= 0.5f)];
   }
 
  private:
