@@ -17,6 +17,7 @@
 #include "core/scene.hpp"
 #include "tools/render/render.hpp"
 #include "tools/render/peel.hpp"
+#include "tools/render/quads.hpp"
 
 using namespace papertear;
 using namespace papertear::render;
@@ -214,6 +215,72 @@ TEST_CASE("frayed fibres stick out of torn faces only, the same way every time",
   for (std::size_t t = plain.triangle_count(); t < narrow.triangle_count(); ++t)
     for (std::uint32_t v : narrow.triangles[t])
       if (narrow.position[v][0] < cut + 0.1f) CHECK(narrow.position[v][0] <= cut + 0.1f * 1.5f + 1e-4f);
+}
+
+TEST_CASE("the surface mesh has the same bytes on any number of threads", "[render]") {
+  // Two tears, so that fibres come from several of the fixed chunks of faces.
+  World w = torn_sheet(40, 30, 3, 1.0f);
+  split_off(w, [](int, int j, int) { return j >= 20; });
+  const MeshOptions options{.fray = true, .fray_length = 0.45f, .layer_opacity = 0.7f};
+  const SurfaceMesh one = build_surface_mesh(w, options);
+  REQUIRE(open_faces(w).size() > 3 * 1024);
+  for (int threads : {2, 3}) {
+    SurfaceMesh m;
+    tbb::task_arena(threads).execute([&] { m = build_surface_mesh(w, options); });
+    INFO(threads << " threads");
+    CHECK(m.position == one.position);
+    CHECK(m.normal == one.normal);
+    CHECK(m.uv == one.uv);
+    CHECK(m.node == one.node);
+    CHECK(m.original_node == one.original_node);
+    CHECK(m.triangles == one.triangles);
+    CHECK(m.material == one.material);
+    CHECK(m.kind == one.kind);
+    CHECK(m.cell == one.cell);
+    CHECK(m.opacity == one.opacity);
+    CHECK(m.shade == one.shade);
+  }
+  // Each fibre triangle has three vertices of its own, in order after the faces'.
+  const SurfaceMesh plain = build_surface_mesh(w, {.fray = false});
+  REQUIRE(one.triangle_count() > plain.triangle_count() + 1000);
+  for (std::size_t t = plain.triangle_count(); t < one.triangle_count(); ++t) {
+    const auto first = std::uint32_t(plain.vertex_count() + 3 * (t - plain.triangle_count()));
+    CHECK(one.triangles[t] == std::array<std::uint32_t, 3>{first, first + 1, first + 2});
+  }
+}
+
+TEST_CASE("the ray tracer's quads are the mesh's triangles in pairs, hits mapped back", "[render]") {
+  const SurfaceMesh mesh = build_surface_mesh(torn_sheet(8, 6, 3, 1.0f), {.fray = true});
+  std::vector<std::uint32_t> tris(mesh.triangle_count());
+  for (std::uint32_t t = 0; t < tris.size(); ++t) tris[t] = t;
+  tris.push_back(0);  // an odd one out at the end stays a single triangle
+  const std::vector<TracedQuad> quads = pair_triangles(mesh, tris);
+  CHECK(quads.size() == (tris.size() + 1) / 2);  // faces and fibre teeth all pair up
+  std::vector<int> seen(mesh.triangle_count(), 0);
+  auto point = [&](std::uint32_t v) { return mesh.position[v]; };
+  for (const TracedQuad& q : quads) {
+    seen[q.triangle[0]]++;
+    if (q.pairing != TracedQuad::Pairing::single) seen[q.triangle[1]]++;
+    // Embree's quad coordinates: (q0 q1 q3) below the diagonal u + v = 1, (q2 q3 q1) above.
+    for (const auto [u, v] : {std::array<float, 2>{0.2f, 0.3f}, {0.7f, 0.1f}, {0.6f, 0.8f}, {0.9f, 0.5f}}) {
+      if (q.pairing == TracedQuad::Pairing::single && u + v > 1.0f) continue;
+      std::array<float, 3> expected{}, got{};
+      const TrianglePoint h = on_triangle(q, u, v);
+      const auto& t = mesh.triangles[h.triangle];
+      for (std::size_t c = 0; c < 3; ++c) {
+        expected[c] = u + v <= 1.0f
+                          ? (1 - u - v) * point(q.vertex[0])[c] + u * point(q.vertex[1])[c] + v * point(q.vertex[3])[c]
+                          : (u + v - 1) * point(q.vertex[2])[c] + (1 - u) * point(q.vertex[3])[c] + (1 - v) * point(q.vertex[1])[c];
+        got[c] = (1 - h.u - h.v) * point(t[0])[c] + h.u * point(t[1])[c] + h.v * point(t[2])[c];
+        CHECK(got[c] == Approx(expected[c]).margin(1e-5));
+      }
+      CHECK(h.triangle == q.triangle[u + v <= 1.0f ? 0 : 1]);
+    }
+  }
+  seen[0]--;  // listed twice
+  CHECK(std::all_of(seen.begin(), seen.end(), [](int n) { return n == 1; }));
+  for (const auto kind : {TracedQuad::Pairing::single, TracedQuad::Pairing::shared_ends, TracedQuad::Pairing::shared_first})
+    CHECK(std::any_of(quads.begin(), quads.end(), [&](const TracedQuad& q) { return q.pairing == kind; }));
 }
 
 TEST_CASE("a peeled skin is translucent by its thickness", "[render]") {

@@ -1,12 +1,15 @@
 #include "tools/render/fray.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <functional>
 #include <vector>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "kernels/parallel.hpp"
 #include "tools/render/hash.hpp"
 
 namespace papertear::render {
@@ -91,13 +94,22 @@ struct Tooth {
 };
 
 // The teeth of one face: 3 to 5 clumps across it, a third of them thin single fibres.
-std::vector<Tooth> make_teeth(std::uint32_t cell, int face, float length) {
+// Fixed capacity: a frame has tens of thousands of torn faces, and no allocation per face.
+constexpr int kMostTeeth = 5;
+struct Teeth {
+  std::array<Tooth, kMostTeeth> at;
+  int count = 0;
+  const Tooth* begin() const { return at.data(); }
+  const Tooth* end() const { return at.data() + count; }
+};
+
+Teeth make_teeth(std::uint32_t cell, int face, float length) {
   HashStream rng(hash_key(cell, std::uint64_t(face), 0x6672617945ull));
-  const int count = 3 + rng.below(3);
-  std::vector<float> edge(std::size_t(count) + 1, 0.0f);
+  const int count = 3 + rng.below(kMostTeeth - 2);
+  std::array<float, kMostTeeth + 1> edge{};
   for (int t = 0; t < count; ++t) edge[std::size_t(t) + 1] = edge[std::size_t(t)] + rng.uniform(0.6f, 1.6f);
-  for (float& e : edge) e /= edge.back();
-  std::vector<Tooth> teeth;
+  for (int t = 0; t <= count; ++t) edge[std::size_t(t)] /= edge[std::size_t(count)];
+  Teeth teeth;
   for (int t = 0; t < count; ++t) {
     Tooth th{};
     const float a = edge[std::size_t(t)], b = edge[std::size_t(t) + 1];
@@ -122,30 +134,16 @@ std::vector<Tooth> make_teeth(std::uint32_t cell, int face, float length) {
     th.lean = rng.uniform(-0.15f, 0.15f);
     th.lift = rng.uniform(-0.12f, 0.0f);  // never above the face: the print stays clean
     th.shade = rng.uniform(0.88f, 1.0f);
-    teeth.push_back(th);
+    teeth.at[std::size_t(teeth.count++)] = th;
   }
   return teeth;
 }
 
-// One flat-shaded triangle (its own three vertices).
-void add_flat_triangle(const FacePatch& f, const Vec3 (&p)[3], const float (&uw)[3][2], std::uint32_t cell,
-                       float opacity, float shade, const World& world, SurfaceMesh& mesh) {
-  Vec3 n = (p[1] - p[0]).cross(p[2] - p[0]);
-  if (!(n.norm() > 1e-20f)) return;
-  n.normalize();
-  std::array<std::uint32_t, 3> v{};
-  for (int c = 0; c < 3; ++c) {
-    const std::uint32_t node = f.nearest_node(uw[c][0], uw[c][1]);
-    v[std::size_t(c)] = mesh.add_vertex({p[c].x(), p[c].y(), p[c].z()}, {n.x(), n.y(), n.z()},
-                                        f.uv_at(uw[c][0], uw[c][1]), node, world.nodes.vertex[node]);
-  }
-  mesh.add_triangle(v, Material::Fibre, FaceKind::Torn, cell, opacity, shade);
-}
-
-}  // namespace
-
-void append_frayed_face(const World& world, std::uint32_t cell, int face, float length, float opacity,
-                        SurfaceMesh& mesh) {
+// Calls fibre(f, p, uw, n, shade) for every fibre triangle of torn face `face` of `cell`:
+// its corners p at face coordinates uw (u, w) of face patch f, its unit normal n. Both passes
+// of append_frayed_faces see the same triangles.
+template <class Fibre>
+void for_each_fibre(const World& world, std::uint32_t cell, int face, float length, const Fibre& fibre) {
   FacePatch f;
   const LatticeDims& d = world.topo.dims;
   const float cell_size = float((face >> 1) == 0 ? d.hx : d.hy);
@@ -178,9 +176,77 @@ void append_frayed_face(const World& world, std::uint32_t cell, int face, float 
       const float* b = loop[(e + 1) % 4];
       const Vec3 p[3] = {f.at(a[0], a[1]), f.at(b[0], b[1]), tip};
       const float uw[3][2] = {{a[0], a[1]}, {b[0], b[1]}, {t.tip_u, t.tip_w}};
-      add_flat_triangle(f, p, uw, cell, opacity, t.shade, world, mesh);
+      Vec3 n = (p[1] - p[0]).cross(p[2] - p[0]);
+      if (!(n.norm() > 1e-20f)) continue;
+      n.normalize();
+      fibre(f, p, uw, n, t.shade);
     }
   }
+}
+
+// Writes fibre triangles from triangle `next` on into a mesh already grown to hold them.
+// Fibres come after the faces' triangles and are flat-shaded: fibre triangle t owns the three
+// vertices from first_vertex + 3 (t - first_triangle) on.
+class FibreWriter {
+ public:
+  struct Region {
+    std::size_t first_triangle, first_vertex;
+  };
+  FibreWriter(const World& world, const Region& region, std::size_t next, SurfaceMesh& mesh)
+      : world_(world), region_(region), next_(next), mesh_(mesh) {}
+
+  void face(std::uint32_t cell, float opacity) {
+    cell_ = cell;
+    opacity_ = opacity;
+  }
+
+  void operator()(const FacePatch& f, const Vec3 (&p)[3], const float (&uw)[3][2], const Vec3& n, float shade) {
+    const auto first = std::uint32_t(region_.first_vertex + 3 * (next_ - region_.first_triangle));
+    std::array<std::uint32_t, 3> v{};
+    for (std::size_t c = 0; c < 3; ++c) {
+      const std::uint32_t node = f.nearest_node(uw[c][0], uw[c][1]);
+      v[c] = first + std::uint32_t(c);
+      mesh_.set_vertex(v[c], {p[c].x(), p[c].y(), p[c].z()}, {n.x(), n.y(), n.z()}, f.uv_at(uw[c][0], uw[c][1]), node,
+                       world_.nodes.vertex[node]);
+    }
+    mesh_.set_triangle(next_++, v, Material::Fibre, FaceKind::Torn, cell_, opacity_, shade);
+  }
+
+ private:
+  const World& world_;
+  Region region_;
+  std::size_t next_;
+  SurfaceMesh& mesh_;
+  std::uint32_t cell_ = 0;
+  float opacity_ = 1.0f;
+};
+
+}  // namespace
+
+void append_frayed_faces(const World& world, const std::vector<OpenFace>& faces, float length,
+                         const std::vector<float>& opacity, SurfaceMesh& mesh) {
+  // Two passes over fixed chunks of faces: count each chunk's fibre triangles, then write
+  // them at their place in face order. The mesh grows once, nothing is copied, and it has
+  // the same bytes on any number of threads.
+  constexpr std::size_t kChunk = 1024;
+  auto torn = [&](std::size_t i) { return faces[i].kind == FaceKind::Torn; };
+  std::vector<std::size_t> first(chunk_count(faces.size(), kChunk) + 1, 0);
+  parallel_chunks(faces.size(), kChunk, [&](std::size_t begin, std::size_t end, std::size_t c) {
+    for (std::size_t i = begin; i < end; ++i)
+      if (torn(i)) for_each_fibre(world, faces[i].cell, faces[i].face, length, [&](auto&&...) { ++first[c + 1]; });
+  });
+  const FibreWriter::Region region{mesh.triangle_count(), mesh.vertex_count()};
+  first[0] = region.first_triangle;
+  for (std::size_t c = 1; c < first.size(); ++c) first[c] += first[c - 1];
+  mesh.resize(region.first_vertex + 3 * (first.back() - region.first_triangle), first.back());
+  parallel_chunks(faces.size(), kChunk, [&](std::size_t begin, std::size_t end, std::size_t c) {
+    FibreWriter write(world, region, first[c], mesh);
+    for (std::size_t i = begin; i < end; ++i) {
+      if (!torn(i)) continue;
+      write.face(faces[i].cell, opacity[faces[i].cell]);
+      for_each_fibre(world, faces[i].cell, faces[i].face, length, std::ref(write));
+    }
+  });
 }
 
 }  // namespace papertear::render

@@ -9,15 +9,18 @@
 // be shorter than a tenth of `length` grows none (it would lie flat on the face).
 #pragma once
 #include <cstdint>
+#include <vector>
 
 #include "core/world.hpp"
 #include "tools/render/surface.hpp"
 
 namespace papertear::render {
 
-// Appends the fibres of torn face `face` of `cell` to `mesh`. `length` is the longest
-// fibre, in cell sizes; `opacity` is the cell's (peel.hpp).
-void append_frayed_face(const World& world, std::uint32_t cell, int face, float length, float opacity,
-                        SurfaceMesh& mesh);
+// Appends the fibres of every torn face of `faces` (in their order) to `mesh`: flat-shaded
+// triangles with three vertices each. `length` is the longest fibre, in cell sizes;
+// `opacity` is per cell (peel.hpp). The work is shared out in fixed chunks to the threads of
+// the current arena; the mesh has the same bytes on any number of threads.
+void append_frayed_faces(const World& world, const std::vector<OpenFace>& faces, float length,
+                         const std::vector<float>& opacity, SurfaceMesh& mesh);
 
 }  // namespace papertear::render

@@ -15,6 +15,7 @@
 #include "kernels/parallel.hpp"
 #include "tools/render/hash.hpp"
 #include "tools/render/print.hpp"
+#include "tools/render/quads.hpp"
 
 namespace papertear::render {
 
@@ -70,7 +71,11 @@ class SrgbEncoder {
   }
   std::uint8_t operator()(float linear) const {
     const float c = std::clamp(linear, 0.0f, 1.0f);
-    return lut_[std::size_t(std::lround(c * float(kSteps)))];
+    // std::lround for x >= 0 without the library call (three per pixel): x - trunc(x) is
+    // exact, so this rounds halves up exactly as lround does.
+    const float x = c * float(kSteps);
+    const auto i = std::size_t(x);
+    return lut_[i + std::size_t(x - float(i) >= 0.5f)];
   }
 
  private:
@@ -147,84 +152,115 @@ struct PacketRays {
   int count = 0;
 };
 
-// Ray masks: opaque triangles and peeled skins are two geometries of one scene, so a
-// shadow ray can skip the skins without a second BVH.
-constexpr unsigned kOpaqueMask = 1u, kSkinMask = 2u, kAnyMask = kOpaqueMask | kSkinMask;
+// The surfaces are split into two Embree scenes: opaque triangles and peeled skins. A ray
+// finds its nearest opaque surface once, in the big scene, and walks the few skins in front
+// of it in the small one; a shadow ray asks the big scene only whether anything opaque is in
+// the way (an any-hit query, which stops at the first hit) and walks the skins only if not.
+enum Layer : unsigned { kOpaque = 0, kSkins = 1 };
+constexpr float kFar = std::numeric_limits<float>::infinity();
 
 // Everything a tile needs to trace one frame; read-only while tracing.
 class FrameTracer {
  public:
   FrameTracer(RTCDevice device, const SurfaceMesh& mesh, const Look& look, const Texture& texture)
-      : mesh_(mesh), look_(look), texture_(texture), scene_(device) {
+      : mesh_(mesh), look_(look), texture_(texture), scenes_{EmbreeScene(device), EmbreeScene(device)} {
     build(device);
   }
 
   // A surface point's shading up to the shadow ray: colour = albedo * (intensity *
   // weight * visibility + sky), with visibility asked along `to_light` from `shadow_from`
   // when `weight` > 0.
+  // Trivially constructible (prepare() value-initialises it), so that arrays of them cost
+  // nothing to set up.
   struct Shading {
     Vec3 albedo, shadow_from, to_light;
-    float weight = 0.0f, sky = 0.0f;
-    Vec3 finish(float intensity, float visible) const { return albedo * (intensity * (weight * visible) + sky); }
+    float weight, sky;
+    std::uint32_t tri;
+    bool printed;  // the albedo comes from the print
+    float light(float intensity, float visible) const { return intensity * (weight * visible) + sky; }
+  };
+
+  static constexpr std::uint32_t kNoTriangle = std::numeric_limits<std::uint32_t>::max();
+  // What the first pass keeps of a sample besides its colour, for choosing a pixel's extra
+  // samples (Renderer::draw).
+  // Trivially constructible: a frame's worth is allocated without being cleared.
+  struct SampleInfo {
+    Vec3 plain;          // the colour with the print left blank: shading, edges, shadows
+    float lighting;      // when the sample sees print directly: colour = print x lighting
+    std::uint32_t print_tri;  // that print triangle, or kNoTriangle
   };
 
   // The colours of up to kPacket primary rays from one origin: out[i] for rays.dir[i].
-  // Rays go to Embree as packets, layer by layer: each round finds the next surface of every
-  // ray still going, shades it (one packet of shadow rays) and lets the ray on through a
-  // peeled skin. Which rays share a packet is fixed by the caller, so the result does not
-  // depend on the thread count.
-  void trace_packet(const Vec3& origin, const PacketRays& rays, Vec3* out) const {
-    std::array<float, kPacket> throughput, tnear;
-    std::array<bool, kPacket> going;
-    for (int i = 0; i < kPacket; ++i) {
-      if (i < rays.count) out[i] = Vec3::Zero();
-      throughput[std::size_t(i)] = 1.0f;
-      tnear[std::size_t(i)] = 0.0f;
-      going[std::size_t(i)] = i < rays.count;
+  // Rays go to Embree as packets: one finds every ray's nearest opaque surface, then a
+  // round per peeled skin in front of it; the shadow rays of all surfaces seen go out
+  // together afterwards. Which rays share a packet is fixed by the caller, so the result
+  // does not depend on the thread count. With `info`, info[i] describes out[i] too.
+  void trace_packet(const Vec3& origin, const PacketRays& rays, Vec3* out, SampleInfo* info = nullptr) const {
+    Packet nearest;
+    for (int i = 0; i < rays.count; ++i) nearest.add(i, origin, rays.dir[std::size_t(i)], 0.0f, kFar);
+    nearest.intersect(scenes_[kOpaque].scene, RTC_INTERSECT_CONTEXT_FLAG_COHERENT);
+    SkinHits skins;  // in front of each ray's opaque surface
+    if (has_skins_) {
+      Packet skin;
+      for (int i = 0; i < rays.count; ++i) skin.add(i, origin, rays.dir[std::size_t(i)], 0.0f, nearest.rh.ray.tfar[i]);
+      skin.occluded(scenes_[kSkins].scene, skins.ctx);
     }
-    for (int layer = 0; layer < kMaxLayersCrossed; ++layer) {
-      Packet p;
-      for (int i = 0; i < kPacket; ++i)
-        if (going[std::size_t(i)]) p.add(i, origin, rays.dir[std::size_t(i)], tnear[std::size_t(i)], kAnyMask);
-      if (!p.any) return;
-      p.intersect(scene_.scene, RTC_INTERSECT_CONTEXT_FLAG_COHERENT);
-      // Surfaces seen in this round, each with the share of the pixel it gets.
-      std::array<Shading, kPacket> seen;
-      std::array<float, kPacket> share{};
-      for (int i = 0; i < kPacket; ++i) {
-        if (!p.valid[i]) continue;
-        const auto li = std::size_t(i);
-        const Vec3& dir = rays.dir[li];
-        if (p.rh.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID) {
-          out[i] += throughput[li] * look_.background;
-          going[li] = false;
-          continue;
-        }
-        const std::uint32_t tri = triangle(p.rh.hit.geomID[i], p.rh.hit.primID[i]);
-        const float alpha = mesh_.opacity[tri];
-        const bool entering = tri_normal_[tri].dot(dir) < 0.0f;
-        if (alpha >= 1.0f || entering) {
-          seen[li] = prepare(tri, p.rh.hit.u[i], p.rh.hit.v[i], p.rh.ray.tfar[i], origin, dir, rays.key[li]);
-          share[li] = alpha >= 1.0f ? throughput[li] : throughput[li] * alpha;
-        }
-        if (alpha >= 1.0f) {
-          going[li] = false;
-        } else if (entering) {  // a peeled skin: its own colour, then what is behind it
-          throughput[li] *= 1.0f - alpha;
-          if (throughput[li] < 1.0f / 1024.0f) going[li] = false;
-        }
-        tnear[li] = p.rh.ray.tfar[i] + eps_;
-      }
-      std::array<float, kPacket> visible{};
-      visibility(seen, share, visible);
-      for (int i = 0; i < kPacket; ++i) {
-        const auto li = std::size_t(i);
-        if (share[li] > 0.0f) out[i] += share[li] * seen[li].finish(look_.intensity, visible[li]);
-      }
+    Surfaces seen;
+    for (int i = 0; i < rays.count; ++i) {
+      out[i] = Vec3::Zero();
+      if (info) info[i] = SampleInfo{Vec3::Zero(), 0.0f, kNoTriangle};
+      follow(origin, rays, i, nearest, skins, seen, [&](const Vec3& background) {
+        out[i] += background;
+        if (info) info[i].plain += background;
+      });
+    }
+    std::array<float, kMaxSurfaces> visible;
+    visibility(seen, visible);
+    // Per ray, its surfaces in the order they were met.
+    for (int k = 0; k < seen.count; ++k) {
+      const Surface& f = seen.at[std::size_t(k)];
+      const float light = f.shading.light(look_.intensity, visible[std::size_t(k)]);
+      out[f.lane] += f.share * (f.shading.albedo * light);
+      if (info) record(f.shading, f.share, light, info[f.lane]);
     }
   }
 
+  // The print where a ray meets the plane of print triangle `tri` (continued beyond its
+  // edges): a pixel's extra samples where only the print varies across it need no rays.
+  Vec3 print_along(std::uint32_t tri, const Vec3& origin, const Vec3& dir) const {
+    const auto& t = mesh_.triangles[tri];
+    const Vec3 a = vec(mesh_.position[t[0]]), e1 = vec(mesh_.position[t[1]]) - a, e2 = vec(mesh_.position[t[2]]) - a;
+    const Vec3 n = e1.cross(e2);
+    const float facing = n.dot(dir), area2 = n.squaredNorm();
+    if (!(std::abs(facing) > 1e-6f * std::sqrt(area2))) return albedo(tri, 1.0f / 3.0f, 1.0f / 3.0f);
+    const Vec3 ap = origin + (n.dot(a - origin) / facing) * dir - a;
+    return albedo(tri, ap.cross(e2).dot(n) / area2, e1.cross(ap).dot(n) / area2);
+  }
+
  private:
+  // A surface a primary ray meets, with the share of its pixel it gets.
+  struct Surface {
+    Shading shading;
+    float share;
+    int lane;
+  };
+  static constexpr int kMaxSurfaces = kPacket * kMaxLayersCrossed;
+  struct Surfaces {
+    std::array<Surface, kMaxSurfaces> at;
+    int count = 0;
+    void add(const Surface& f) { at[std::size_t(count++)] = f; }
+  };
+
+  // Adds a shaded surface to a sample's info. A share of 1 is an opaque surface with
+  // nothing in front of it.
+  void record(const Shading& seen, float share, float light, SampleInfo& info) const {
+    info.plain += share * ((seen.printed ? look_.paper : seen.albedo) * light);
+    if (seen.printed && share == 1.0f) {
+      info.print_tri = seen.tri;
+      info.lighting = light;
+    }
+  }
+
   // One Embree packet of rays: lane i is in use when valid[i].
   struct Packet {
     alignas(64) int valid[kPacket] = {};
@@ -233,14 +269,14 @@ class FrameTracer {
 
     Packet() {
       for (int i = 0; i < kPacket; ++i) {
-        set_lane(rh.ray, i, Vec3::Zero(), Vec3(0, 0, 1), 0.0f, 0u);
+        set_lane(rh.ray, i, Vec3::Zero(), Vec3(0, 0, 1), 0.0f, kFar);
         rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
       }
     }
-    void add(int i, const Vec3& o, const Vec3& d, float tnear, unsigned mask) {
+    void add(int i, const Vec3& o, const Vec3& d, float tnear, float tfar) {
       valid[i] = -1;
       any = true;
-      set_lane(rh.ray, i, o, d, tnear, mask);
+      set_lane(rh.ray, i, o, d, tnear, tfar);
     }
     void intersect(RTCScene scene, RTCIntersectContextFlags flags) {
       RTCIntersectContext ctx;
@@ -251,113 +287,247 @@ class FrameTracer {
     void occluded(RTCScene scene) {
       RTCIntersectContext ctx;
       rtcInitIntersectContext(&ctx);
-      rtcOccluded16(valid, scene, &ctx, &rh.ray);
+      occluded(scene, ctx);
+    }
+    void occluded(RTCScene scene, RTCIntersectContext& ctx) { rtcOccluded16(valid, scene, &ctx, &rh.ray); }
+  };
+
+  // The skins each ray of a packet enters, gathered in one traversal by the skin scene's
+  // occlusion filter (which records each hit and rejects it, so the traversal goes on):
+  // per lane the nearest kMaxLayersCrossed, sorted by (t, triangle), whatever order Embree
+  // finds them in.
+  struct SkinHit {
+    float t;
+    std::uint32_t tri;
+    float u, v;  // barycentrics on triangle tri
+    bool operator<(const SkinHit& o) const { return t < o.t || (t == o.t && tri < o.tri); }
+  };
+  struct SkinHits {
+    RTCIntersectContext ctx;  // first: Embree hands the filter a pointer to it
+    std::array<std::array<SkinHit, kMaxLayersCrossed>, kPacket> hit;
+    std::array<int, kPacket> count{};
+    SkinHits() { rtcInitIntersectContext(&ctx); }
+    void add(int lane, const SkinHit& h) {
+      auto& list = hit[std::size_t(lane)];
+      int& n = count[std::size_t(lane)];
+      int at = 0;
+      while (at < n && list[std::size_t(at)] < h) ++at;
+      if (at == kMaxLayersCrossed || (at < n && !(h < list[std::size_t(at)]))) return;  // too far, or seen
+      n = std::min(n + 1, kMaxLayersCrossed);
+      for (int k = n - 1; k > at; --k) list[std::size_t(k)] = list[std::size_t(k - 1)];
+      list[std::size_t(at)] = h;
     }
   };
 
-  // visible[i]: how much of the light reaches seen[i] (lanes with share[i] > 0 and a shadow
-  // ray to cast): 0 behind anything opaque, reduced by every peeled skin the shadow ray
-  // passes into. Without skins one any-hit packet answers it; with skins the hits are walked
-  // in order, a closest-hit packet per round.
-  void visibility(const std::array<Shading, kPacket>& seen, const std::array<float, kPacket>& share,
-                  std::array<float, kPacket>& visible) const {
-    std::array<float, kPacket> tnear{};
-    Packet p;
-    for (int i = 0; i < kPacket; ++i) {
-      const auto li = std::size_t(i);
-      visible[li] = 1.0f;
-      if (share[li] > 0.0f && seen[li].weight > 0.0f)
-        p.add(i, seen[li].shadow_from, seen[li].to_light, 0.0f, ids_[1].empty() ? kOpaqueMask : kAnyMask);
+  // Adds the surfaces ray i of `rays` meets to `seen`, in order: the skins it enters (each
+  // passing on 1 - opacity of what is behind it), then its opaque surface; or, when it
+  // misses that, calls background(its share of the background colour). As the walk of
+  // closest hits did: hits closer than eps_ behind the last are the same surface again, a
+  // ray crosses at most kMaxLayersCrossed surfaces and stops when less than 1/1024 is left.
+  template <class Background>
+  void follow(const Vec3& origin, const PacketRays& rays, int i, const Packet& nearest, const SkinHits& skins,
+              Surfaces& seen, const Background& background) const {
+    const auto li = std::size_t(i);
+    const Vec3& dir = rays.dir[li];
+    float throughput = 1.0f, next = 0.0f;
+    int crossed = 0;
+    for (int k = 0; k < skins.count[li]; ++k) {
+      const SkinHit& h = skins.hit[li][std::size_t(k)];
+      if (h.t < next) continue;
+      if (crossed == kMaxLayersCrossed) return;
+      const float alpha = mesh_.opacity[h.tri];
+      seen.add({prepare(h.tri, h.u, h.v, h.t, origin, dir, rays.key[li]), throughput * alpha, i});
+      ++crossed;
+      throughput *= 1.0f - alpha;
+      if (throughput < 1.0f / 1024.0f) return;
+      next = h.t + eps_;
     }
-    if (!p.any) return;
-    if (ids_[1].empty()) {
-      p.occluded(scene_.scene);
-      for (int i = 0; i < kPacket; ++i)
-        if (p.valid[i] && p.rh.ray.tfar[i] < 0.0f) visible[std::size_t(i)] = 0.0f;
+    if (crossed == kMaxLayersCrossed) return;
+    if (nearest.rh.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID) {
+      background(throughput * look_.background);
       return;
     }
-    for (int layer = 0; layer < kMaxLayersCrossed && p.any; ++layer) {
-      p.intersect(scene_.scene, RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT);
-      Packet next;
-      for (int i = 0; i < kPacket; ++i) {
-        const auto li = std::size_t(i);
-        if (!p.valid[i] || p.rh.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID) continue;
-        if (p.rh.hit.geomID[i] == 0) {
-          visible[li] = 0.0f;
-          continue;
-        }
-        const std::uint32_t tri = triangle(1, p.rh.hit.primID[i]);
-        if (tri_normal_[tri].dot(seen[li].to_light) < 0.0f) visible[li] *= 1.0f - mesh_.opacity[tri];
-        if (visible[li] < 1.0f / 1024.0f) {
-          visible[li] = 0.0f;
-          continue;
-        }
-        tnear[li] = p.rh.ray.tfar[i] + eps_;
-        next.add(i, seen[li].shadow_from, seen[li].to_light, tnear[li], kAnyMask);
-      }
-      p = next;
-    }
+    const TrianglePoint hit = on_triangle(quads_[kOpaque][nearest.rh.hit.primID[i]], nearest.rh.hit.u[i], nearest.rh.hit.v[i]);
+    seen.add({prepare(hit.triangle, hit.u, hit.v, nearest.rh.ray.tfar[i], origin, dir, rays.key[li]), throughput, i});
   }
 
-  static void set_lane(RTCRay16& r, int i, const Vec3& o, const Vec3& d, float tnear, unsigned mask) {
+  // visible[k]: how much of the light reaches surface k: 0 behind anything opaque, reduced
+  // by every peeled skin the shadow ray passes into. The shadow rays go out 16 at a time in
+  // the surfaces' order, so packets are full even where few rays of a round have one.
+  void visibility(const Surfaces& seen, std::array<float, kMaxSurfaces>& visible) const {
+    Packet p;
+    std::array<int, kPacket> surface{};
+    int n = 0;
+    for (int k = 0; k < seen.count; ++k) {
+      const Shading& f = seen.at[std::size_t(k)].shading;
+      visible[std::size_t(k)] = 1.0f;
+      if (!(f.weight > 0.0f)) continue;
+      surface[std::size_t(n)] = k;
+      p.add(n, f.shadow_from, f.to_light, 0.0f, kFar);
+      if (++n == kPacket) {
+        shadow_packet(p, surface, seen, visible);
+        p = Packet();
+        n = 0;
+      }
+    }
+    if (n > 0) shadow_packet(p, surface, seen, visible);
+  }
+
+  // Lane i of p is the shadow ray of surface `surface[i]`.
+  void shadow_packet(Packet& p, const std::array<int, kPacket>& surface, const Surfaces& seen,
+                     std::array<float, kMaxSurfaces>& visible) const {
+    p.occluded(scenes_[kOpaque].scene);
+    Packet skin;
+    for (int i = 0; i < kPacket; ++i) {
+      if (!p.valid[i]) continue;
+      if (p.rh.ray.tfar[i] < 0.0f)
+        visible[std::size_t(surface[std::size_t(i)])] = 0.0f;
+      else if (has_skins_)
+        skin.add(i, seen.at[std::size_t(surface[std::size_t(i)])].shading.shadow_from,
+                 seen.at[std::size_t(surface[std::size_t(i)])].shading.to_light, 0.0f, kFar);
+    }
+    if (!skin.any) return;
+    SkinHits hits;
+    skin.occluded(scenes_[kSkins].scene, hits.ctx);
+    for (int i = 0; i < kPacket; ++i)
+      if (skin.valid[i]) visible[std::size_t(surface[std::size_t(i)])] = through_skins(hits, i);
+  }
+
+  // The light let through by the skins a shadow ray enters, nearest first: each dims it by
+  // its opacity, hits closer than eps_ behind the last one counted are the same surface
+  // again, and after kMaxLayersCrossed skins or below 1/1024 it is dark.
+  float through_skins(const SkinHits& hits, int lane) const {
+    float v = 1.0f, next = 0.0f;
+    for (int k = 0; k < hits.count[std::size_t(lane)]; ++k) {
+      const SkinHit& h = hits.hit[std::size_t(lane)][std::size_t(k)];
+      if (h.t < next) continue;
+      v *= 1.0f - mesh_.opacity[h.tri];
+      if (v < 1.0f / 1024.0f) return 0.0f;
+      next = h.t + eps_;
+    }
+    return v;
+  }
+
+  static void set_lane(RTCRay16& r, int i, const Vec3& o, const Vec3& d, float tnear, float tfar) {
     r.org_x[i] = o.x(); r.org_y[i] = o.y(); r.org_z[i] = o.z();
     r.dir_x[i] = d.x(); r.dir_y[i] = d.y(); r.dir_z[i] = d.z();
     r.tnear[i] = tnear;
-    r.tfar[i] = std::numeric_limits<float>::infinity();
-    r.mask[i] = mask;
+    r.tfar[i] = tfar;
+    r.mask[i] = ~0u;
     r.time[i] = 0.0f;
     r.flags[i] = 0;
-    r.id[i] = 0;
+    r.id[i] = unsigned(i);  // the lane, for filters called on single rays
   }
 
   void build(RTCDevice device) {
-    const std::size_t nv = mesh_.vertex_count(), nt = mesh_.triangle_count();
-    tri_normal_.resize(nt);
-    for (std::uint32_t t = 0; t < nt; ++t) {
-      const auto& v = mesh_.triangles[t];
-      const Vec3 a = vec(mesh_.position[v[0]]), b = vec(mesh_.position[v[1]]), c = vec(mesh_.position[v[2]]);
-      const Vec3 n = (b - a).cross(c - a);
-      const float len = n.norm();
-      tri_normal_[t] = len > 0.0f ? Vec3(n / len) : Vec3(0, 0, 1);
-      (mesh_.opacity[t] < 1.0f ? ids_[1] : ids_[0]).push_back(t);
+    const std::array<std::vector<std::uint32_t>, 2> tris = sort_triangles();
+    copy_vertices();
+    has_skins_ = !tris[kSkins].empty();
+    for (Layer g : {kOpaque, kSkins}) {
+      quads_[g] = pair_triangles(mesh_, tris[g]);
+      attach(device, g);
+      // Robust: no shortcuts that let rays slip between triangles sharing an edge.
+      rtcSetSceneFlags(scenes_[g].scene, RTC_SCENE_FLAG_ROBUST);
+      rtcSetSceneBuildQuality(scenes_[g].scene, RTC_BUILD_QUALITY_MEDIUM);
+      rtcCommitScene(scenes_[g].scene);
     }
-    float extent = 0.0f;
-    for (const auto& p : mesh_.position) extent = std::max({extent, std::abs(p[0]), std::abs(p[1]), std::abs(p[2])});
-    eps_ = std::max(1e-4f, 2e-5f * extent);
-    // One copy of the vertices for both geometries; Embree reads up to 16 bytes at a time,
-    // hence the padding.
-    vertices_.resize(3 * nv + 4, 0.0f);
-    for (std::size_t i = 0; i < nv; ++i)
-      for (std::size_t c = 0; c < 3; ++c) vertices_[3 * i + c] = mesh_.position[i][c];
-    attach(device, 0, kOpaqueMask);
-    attach(device, 1, kSkinMask);
-    // Robust: no shortcuts that let rays slip between triangles sharing an edge.
-    rtcSetSceneFlags(scene_.scene, RTC_SCENE_FLAG_ROBUST);
-    rtcSetSceneBuildQuality(scene_.scene, RTC_BUILD_QUALITY_MEDIUM);
-    rtcCommitScene(scene_.scene);
     check_device(device, "building the scene");
   }
 
-  // Puts the triangles ids_[g] into the scene as geometry g; its primitive p is triangle
-  // ids_[g][p].
-  void attach(RTCDevice device, unsigned g, unsigned mask) {
-    const std::vector<std::uint32_t>& tris = ids_[g];
-    if (tris.empty()) return;
-    RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+  // Each triangle's unit normal; the triangles of scene kOpaque and of kSkins, ascending.
+  // In parallel over fixed chunks, the lists joined in chunk order.
+  std::array<std::vector<std::uint32_t>, 2> sort_triangles() {
+    constexpr std::size_t kChunk = 16384;
+    const std::size_t nt = mesh_.triangle_count();
+    tri_normal_.resize(nt);
+    std::vector<std::array<std::vector<std::uint32_t>, 2>> parts(chunk_count(nt, kChunk));
+    parallel_chunks(nt, kChunk, [&](std::size_t begin, std::size_t end, std::size_t c) {
+      for (auto t = std::uint32_t(begin); t < end; ++t) {
+        const auto& v = mesh_.triangles[t];
+        const Vec3 a = vec(mesh_.position[v[0]]), b = vec(mesh_.position[v[1]]), d = vec(mesh_.position[v[2]]);
+        const Vec3 n = (b - a).cross(d - a);
+        const float len = n.norm();
+        tri_normal_[t] = len > 0.0f ? Vec3(n / len) : Vec3(0, 0, 1);
+        parts[c][mesh_.opacity[t] < 1.0f ? kSkins : kOpaque].push_back(t);
+      }
+    });
+    std::array<std::vector<std::uint32_t>, 2> tris;
+    for (Layer g : {kOpaque, kSkins})
+      for (const auto& part : parts) tris[g].insert(tris[g].end(), part[g].begin(), part[g].end());
+    return tris;
+  }
+
+  // One copy of the vertices for both scenes (Embree reads up to 16 bytes at a time, hence
+  // the padding), and the ray offset off surfaces scaled to the mesh's extent.
+  void copy_vertices() {
+    constexpr std::size_t kChunk = 65536;
+    const std::size_t nv = mesh_.vertex_count();
+    vertices_.resize(3 * nv + 4, 0.0f);
+    std::vector<float> extent(chunk_count(nv, kChunk), 0.0f);
+    parallel_chunks(nv, kChunk, [&](std::size_t begin, std::size_t end, std::size_t c) {
+      float e = 0.0f;
+      for (std::size_t i = begin; i < end; ++i)
+        for (std::size_t k = 0; k < 3; ++k) {
+          vertices_[3 * i + k] = mesh_.position[i][k];
+          e = std::max(e, std::abs(mesh_.position[i][k]));
+        }
+      extent[c] = e;
+    });
+    eps_ = 1e-4f;
+    for (float e : extent) eps_ = std::max(eps_, 2e-5f * e);
+  }
+
+  // Puts the quads quads_[g] into scene g; its primitive p is quads_[g][p].
+  void attach(RTCDevice device, Layer g) {
+    const std::vector<TracedQuad>& quads = quads_[g];
+    if (quads.empty()) return;
+    RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_QUAD);
     rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, vertices_.data(), 0,
                                3 * sizeof(float), mesh_.vertex_count());
-    auto* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                                              3 * sizeof(unsigned), tris.size()));
+    auto* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT4,
+                                                              4 * sizeof(unsigned), quads.size()));
     check_device(device, "allocating geometry");
-    for (std::size_t p = 0; p < tris.size(); ++p)
-      for (std::size_t c = 0; c < 3; ++c) ib[3 * p + c] = mesh_.triangles[tris[p]][c];
-    rtcSetGeometryMask(geom, mask);
+    parallel_chunks(quads.size(), 65536, [&](std::size_t begin, std::size_t end, std::size_t) {
+      for (std::size_t p = begin; p < end; ++p)
+        for (std::size_t c = 0; c < 4; ++c) ib[4 * p + c] = quads[p].vertex[c];
+    });
+    if (g == kSkins) {
+      rtcSetGeometryUserData(geom, const_cast<FrameTracer*>(this));
+      rtcSetGeometryOccludedFilterFunction(geom, &FrameTracer::gather_entering);
+    }
     rtcCommitGeometry(geom);
-    rtcAttachGeometryByID(scene_.scene, geom, g);
+    rtcAttachGeometry(scenes_[g].scene, geom);
     rtcReleaseGeometry(geom);
   }
 
-  std::uint32_t triangle(unsigned geom, unsigned prim) const { return ids_[geom][prim]; }
+  // The point of the mesh of lane i's candidate hit in a filter of the skin scene, and
+  // whether the ray enters its triangle.
+  static TrianglePoint hit_point(const RTCFilterFunctionNArguments* args, unsigned i) {
+    const auto* self = static_cast<const FrameTracer*>(args->geometryUserPtr);
+    return on_triangle(self->quads_[kSkins][RTCHitN_primID(args->hit, args->N, i)], RTCHitN_u(args->hit, args->N, i),
+                       RTCHitN_v(args->hit, args->N, i));
+  }
+  static bool hit_entering(const RTCFilterFunctionNArguments* args, unsigned i, std::uint32_t tri) {
+    const auto* self = static_cast<const FrameTracer*>(args->geometryUserPtr);
+    const Vec3 dir(RTCRayN_dir_x(args->ray, args->N, i), RTCRayN_dir_y(args->ray, args->N, i),
+                   RTCRayN_dir_z(args->ray, args->N, i));
+    return self->entering(tri, dir);
+  }
+  bool entering(std::uint32_t tri, const Vec3& dir) const { return tri_normal_[tri].dot(dir) < 0.0f; }
+
+  // Occlusion filter of the skin scene: records the skins a ray enters in the query's
+  // SkinHits and rejects every hit, so that the traversal finds them all. A ray leaving a
+  // skin (seeing its back) neither sees it nor is dimmed by it: such hits are left out.
+  static void gather_entering(const RTCFilterFunctionNArguments* args) {
+    auto* hits = reinterpret_cast<SkinHits*>(args->context);
+    for (unsigned i = 0; i < args->N; ++i) {
+      if (args->valid[i] == 0) continue;
+      const TrianglePoint p = hit_point(args, i);
+      if (hit_entering(args, i, p.triangle))
+        hits->add(int(RTCRayN_id(args->ray, args->N, i)), {RTCRayN_tfar(args->ray, args->N, i), p.triangle, p.u, p.v});
+      args->valid[i] = 0;
+    }
+  }
 
   Vec3 albedo(std::uint32_t tri, float u, float v) const {
     const float shade = mesh_.shade[tri];
@@ -402,15 +572,19 @@ class FrameTracer {
       ng = -ng;
       n = -n;
     }
-    Shading s;
+    Shading s{};
+    // Shadow rays aim at a random point of the light's disc, which makes the penumbrae;
+    // the cosine term takes the disc's centre: over a disc this small it varies by less
+    // than its own noise would add, and a noise-free shading lets adaptive sampling find
+    // edges rather than noise (Renderer::draw).
     s.to_light = light_direction(key);
-    const float facing = n.dot(s.to_light);
+    const float facing = n.dot(look_.to_light);
     const float alpha = mesh_.opacity[tri];
     // Loose fibres scatter light round themselves: "wrapped" diffuse and a fuller share of
     // the sky keep a torn edge paper-white instead of grey.
     const bool fibre = mesh_.material[tri] == Material::Fibre;
     const float lit = fibre ? (facing + kFibreWrap) / (1.0f + kFibreWrap) : facing;
-    if (lit > 0.0f && (fibre || ng.dot(s.to_light) > 0.0f)) {
+    if (lit > 0.0f && (fibre || ng.dot(look_.to_light) > 0.0f)) {
       s.weight = lit;
       s.shadow_from = point + eps_ * ng;
     } else if (alpha < 1.0f && facing < 0.0f) {  // light through a thin skin from behind
@@ -419,6 +593,8 @@ class FrameTracer {
     }
     s.sky = look_.ambient * (fibre ? 0.85f : 0.55f + 0.45f * std::max(0.0f, n.z()));
     s.albedo = albedo(tri, u, v);
+    s.tri = tri;
+    s.printed = look_.print_enabled && mesh_.material[tri] == Material::Print;
     return s;
   }
 
@@ -427,8 +603,9 @@ class FrameTracer {
   const Texture& texture_;
   std::vector<float> vertices_;
   std::vector<Vec3> tri_normal_;
-  std::array<std::vector<std::uint32_t>, 2> ids_;  // triangles of geometry 0 (opaque) and 1 (skins)
-  EmbreeScene scene_;
+  std::array<std::vector<TracedQuad>, 2> quads_;  // primitives of scene kOpaque and kSkins
+  std::array<EmbreeScene, 2> scenes_;
+  bool has_skins_ = false;
   float eps_ = 1e-4f;
 };
 
@@ -451,13 +628,18 @@ class PixelSampler {
 
   const Vec3& eye() const { return eye_; }
 
-  // Adds sample k of pixel (x, y) to a packet.
-  void add(PacketRays& rays, int x, int y, int k) const {
+  // The direction of sample k of pixel (x, y).
+  Vec3 direction(int x, int y, int k) const {
     const auto off = subpixel(x, y, k, samples_);
     const float ndc_x = (2.0f * (float(x) + off[0]) / float(width_) - 1.0f) * tx_;
     const float ndc_y = (1.0f - 2.0f * (float(y) + off[1]) / float(height_)) * ty_;
+    return (fwd_ + ndc_x * right_ + ndc_y * up_).normalized();
+  }
+
+  // Adds sample k of pixel (x, y) to a packet.
+  void add(PacketRays& rays, int x, int y, int k) const {
     const auto i = std::size_t(rays.count++);
-    rays.dir[i] = (fwd_ + ndc_x * right_ + ndc_y * up_).normalized();
+    rays.dir[i] = direction(x, y, k);
     rays.key[i] = hash_key(std::uint64_t(x), std::uint64_t(y), std::uint64_t(k));
   }
 
@@ -493,18 +675,45 @@ void for_each_pixel_by_block(int x0, int y0, int x1, int y1, const Pixel& pixel)
         for (int x = bx; x < std::min(bx + kBlock, x1); ++x) pixel(x, y);
 }
 
-// Whether a pixel's first sample differs visibly from one of its four neighbours'.
-bool differs_from_neighbours(const std::vector<Vec3>& first, int width, int height, int x, int y) {
+// Whether a pixel's value differs visibly from one of its four neighbours'; value(i) is
+// pixel i's.
+template <class Value>
+bool differs_from_neighbours(int width, int height, int x, int y, const Value& value) {
   constexpr float kContrast = 0.015f;  // in linear light, about 1.5 % of white
-  const Vec3& c = first[std::size_t(y) * std::size_t(width) + std::size_t(x)];
+  const auto at = [&](int px, int py) -> const Vec3& { return value(std::size_t(py) * std::size_t(width) + std::size_t(px)); };
+  const Vec3& c = at(x, y);
   const int dx[4] = {-1, 1, 0, 0}, dy[4] = {0, 0, -1, 1};
   for (int n = 0; n < 4; ++n) {
     const int nx = x + dx[n], ny = y + dy[n];
     if (nx < 0 || ny < 0 || nx >= width || ny >= height) continue;
-    const Vec3 d = first[std::size_t(ny) * std::size_t(width) + std::size_t(nx)] - c;
-    if (d.cwiseAbs().maxCoeff() > kContrast) return true;
+    if ((at(nx, ny) - c).cwiseAbs().maxCoeff() > kContrast) return true;
   }
   return false;
+}
+
+// One sample per pixel (adaptive sampling's first pass).
+// Its arrays are not cleared when allocated (every pixel is written): the pages are first
+// touched by the threads tracing them, not by one thread beforehand.
+struct FirstPass {
+  explicit FirstPass(std::size_t pixels)
+      : colour(std::make_unique_for_overwrite<Vec3[]>(pixels)),
+        info(std::make_unique_for_overwrite<FrameTracer::SampleInfo[]>(pixels)) {}
+  std::unique_ptr<Vec3[]> colour;
+  std::unique_ptr<FrameTracer::SampleInfo[]> info;
+};
+
+// What a pixel's remaining samples need. Where it differs from a neighbour in shading, at a
+// silhouette, an edge or a shadow's boundary, they are traced; where only the print differs
+// (most such pixels of a printed sheet), the print is looked up where the samples would
+// meet the same flat surface, lit as the first sample. Flat areas are already converged.
+enum class Refinement { none, rays, print };
+Refinement refinement(const FirstPass& first, int width, int height, int x, int y) {
+  if (!differs_from_neighbours(width, height, x, y, [&](std::size_t i) -> const Vec3& { return first.colour[i]; }))
+    return Refinement::none;
+  if (differs_from_neighbours(width, height, x, y, [&](std::size_t i) -> const Vec3& { return first.info[i].plain; }))
+    return Refinement::rays;
+  const std::size_t i = std::size_t(y) * std::size_t(width) + std::size_t(x);
+  return first.info[i].print_tri != FrameTracer::kNoTriangle ? Refinement::print : Refinement::rays;
 }
 
 }  // namespace
@@ -534,19 +743,22 @@ Image Renderer::draw(const SurfaceMesh& mesh, const Camera& camera) const {
   const FrameTracer tracer(impl_->device, mesh, impl_->look, impl_->texture);
   const PixelSampler sampler(camera, s.width, s.height, s.samples);
   const std::size_t pixels = std::size_t(s.width) * std::size_t(s.height);
-  // Pass 1: one ray per pixel. Pass 2: the remaining samples, only where a pixel differs
-  // from a neighbour (edges, print detail, shadow boundaries); flat areas are already
-  // converged. Both passes read only pass 1's results, so the choice is deterministic.
+  // Pass 1: one ray per pixel. Pass 2: the remaining samples where a pixel needs them
+  // (refinement()). Both passes read only pass 1's results, so the choice is deterministic.
   // Rays go out in packets of consecutive samples in a tile's block order.
-  std::vector<Vec3> first(pixels);
+  FirstPass first(pixels);
   const auto index = [&](int x, int y) { return std::size_t(y) * std::size_t(s.width) + std::size_t(x); };
   for_each_tile(s.width, s.height, [&](int x0, int y0, int x1, int y1) {
     PacketRays rays;
     std::array<std::size_t, kPacket> dest{};
     std::array<Vec3, kPacket> out;
+    std::array<FrameTracer::SampleInfo, kPacket> info;
     auto flush = [&] {
-      tracer.trace_packet(sampler.eye(), rays, out.data());
-      for (int i = 0; i < rays.count; ++i) first[dest[std::size_t(i)]] = out[std::size_t(i)];
+      tracer.trace_packet(sampler.eye(), rays, out.data(), info.data());
+      for (int i = 0; i < rays.count; ++i) {
+        first.colour[dest[std::size_t(i)]] = out[std::size_t(i)];
+        first.info[dest[std::size_t(i)]] = info[std::size_t(i)];
+      }
       rays.count = 0;
     };
     for_each_pixel_by_block(x0, y0, x1, y1, [&](int x, int y) {
@@ -559,10 +771,16 @@ Image Renderer::draw(const SurfaceMesh& mesh, const Camera& camera) const {
   Image image(s.width, s.height);
   const float exposure = impl_->look.exposure;
   const SrgbEncoder& encode = impl_->encode;
+  const auto put = [&](std::size_t i, const Vec3& colour) {
+    std::uint8_t* p = image.rgb.data() + 3 * i;
+    for (int c = 0; c < 3; ++c) p[c] = encode(colour[c] * exposure);
+  };
   for_each_tile(s.width, s.height, [&](int x0, int y0, int x1, int y1) {
-    // The extra samples of this tile's pixels that need them, k = 1, 2, ... per pixel.
+    // The extra samples of this tile's pixels that need rays, k = 1, 2, ... per pixel, and
+    // the pixels that need only the print.
     std::vector<std::size_t> pixel_of;
     std::vector<Vec3> sample;
+    std::vector<std::array<int, 2>> print_only;
     PacketRays rays;
     auto flush = [&] {
       sample.resize(sample.size() + std::size_t(rays.count));
@@ -571,7 +789,9 @@ Image Renderer::draw(const SurfaceMesh& mesh, const Camera& camera) const {
     };
     if (s.samples > 1)
       for_each_pixel_by_block(x0, y0, x1, y1, [&](int x, int y) {
-        if (!differs_from_neighbours(first, s.width, s.height, x, y)) return;
+        const Refinement r = refinement(first, s.width, s.height, x, y);
+        if (r == Refinement::print) print_only.push_back({x, y});
+        if (r != Refinement::rays) return;
         for (int k = 1; k < s.samples; ++k) {
           pixel_of.push_back(index(x, y));
           sampler.add(rays, x, y, k);
@@ -580,19 +800,21 @@ Image Renderer::draw(const SurfaceMesh& mesh, const Camera& camera) const {
       });
     if (rays.count > 0) flush();
     for (int y = y0; y < y1; ++y)
-      for (int x = x0; x < x1; ++x) {
-        const Vec3& colour = first[index(x, y)];
-        std::uint8_t* p = image.pixel(x, y);
-        for (int c = 0; c < 3; ++c) p[c] = encode(colour[c] * exposure);
-      }
+      for (int x = x0; x < x1; ++x) put(index(x, y), first.colour[index(x, y)]);
     // Pixels with extra samples (overwritten): their mean, summed in sample order.
     for (std::size_t j = 0; j < pixel_of.size();) {
       const std::size_t i = pixel_of[j];
-      Vec3 colour = first[i];
+      Vec3 colour = first.colour[i];
       for (; j < pixel_of.size() && pixel_of[j] == i; ++j) colour += sample[j];
-      colour /= float(s.samples);
-      std::uint8_t* p = image.rgb.data() + 3 * i;
-      for (int c = 0; c < 3; ++c) p[c] = encode(colour[c] * exposure);
+      put(i, colour / float(s.samples));
+    }
+    for (const auto& [x, y] : print_only) {
+      const std::size_t i = index(x, y);
+      const FrameTracer::SampleInfo& f = first.info[i];
+      Vec3 colour = first.colour[i];
+      for (int k = 1; k < s.samples; ++k)
+        colour += f.lighting * tracer.print_along(f.print_tri, sampler.eye(), sampler.direction(x, y, k));
+      put(i, colour / float(s.samples));
     }
   });
   return image;

@@ -1,16 +1,22 @@
 // Ray-traced frames of the display mesh (Embree 3).
 //
 // One frame: the world's surface mesh (surface.hpp: print, paper, fibres, peeled skins) goes
-// into a fresh Embree scene; the image is cut into 32 x 32 pixel tiles that are traced in
+// into two fresh Embree scenes, opaque surfaces and peeled skins, their triangles paired
+// into quads (quads.hpp); the image is cut into 32 x 32 pixel tiles that are traced in
 // parallel (kernels/parallel.hpp: TBB, fixed chunks). Within a tile, rays go to Embree as
-// packets of 16 (4 x 4 pixel blocks; shadow rays of the same lanes as one packet), layer by
-// layer through peeled skins. Which rays share a packet depends only on the tile, and every
-// "random" number (sub-pixel position, point on the light) is hashed from (pixel, sample),
-// so a frame has the same bytes on any number of threads. Opaque triangles and skins are
-// two geometries of one scene, told apart by ray masks.
+// packets of 16 (4 x 4 pixel blocks): one query finds their nearest opaque surfaces, one
+// gathers the skins in front of them, and the shadow rays of all surfaces seen go out 16 at
+// a time. Which rays share a packet depends only on the tile, and every "random" number
+// (sub-pixel position, point on the light) is hashed from (pixel, sample), so a frame has
+// the same bytes on any number of threads.
+//
+// Adaptive sampling: one sample per pixel first; the remaining samples are traced where a
+// pixel's colour differs from a neighbour's and so does its shading with the print left
+// blank (edges, silhouettes, shadows, fibres); where only the print differs, they look the
+// print up on the same flat surface instead.
 //
 // Shading: a directional key light with soft shadows (shadow rays towards a jittered point
-// of the light's disc), a sky term brighter from above, Lambert surfaces in linear light,
+// of the light's disc; the cosine term takes its centre), a sky term brighter from above, Lambert surfaces in linear light,
 // output in sRGB. A peeled skin of opacity a adds a times its own colour and passes 1 - a
 // of what lies behind it; light shining through a thin skin lights its far side too.
 #pragma once

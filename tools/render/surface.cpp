@@ -30,6 +30,39 @@ void SurfaceMesh::add_triangle(std::array<std::uint32_t, 3> v, Material m, FaceK
   shade.push_back(brightness);
 }
 
+void SurfaceMesh::resize(std::size_t vertices, std::size_t triangle_slots) {
+  position.resize(vertices);
+  normal.resize(vertices);
+  uv.resize(vertices);
+  node.resize(vertices);
+  original_node.resize(vertices);
+  triangles.resize(triangle_slots);
+  material.resize(triangle_slots);
+  kind.resize(triangle_slots);
+  cell.resize(triangle_slots);
+  opacity.resize(triangle_slots);
+  shade.resize(triangle_slots);
+}
+
+void SurfaceMesh::set_vertex(std::uint32_t i, const std::array<float, 3>& p, const std::array<float, 3>& n,
+                             const std::array<float, 2>& t, std::uint32_t node_id, std::uint32_t original) {
+  position[i] = p;
+  normal[i] = n;
+  uv[i] = t;
+  node[i] = node_id;
+  original_node[i] = original;
+}
+
+void SurfaceMesh::set_triangle(std::size_t i, std::array<std::uint32_t, 3> v, Material m, FaceKind k,
+                               std::uint32_t cell_id, float alpha, float brightness) {
+  triangles[i] = v;
+  material[i] = m;
+  kind[i] = k;
+  cell[i] = cell_id;
+  opacity[i] = alpha;
+  shade[i] = brightness;
+}
+
 std::array<int, 4> face_loop(int face) {
   const int axis = face >> 1, side = face & 1;
   const int a1 = axis == 0 ? 1 : 0, a2 = axis == 2 ? 1 : 2;
@@ -152,10 +185,7 @@ SurfaceMesh build_surface_mesh(const World& world, const MeshOptions& options) {
   QuadBuilder quads(world, mesh);
   for (const OpenFace& f : faces) quads.add(f, opacity[f.cell]);
   quads.finish_normals();
-  if (options.fray)
-    for (const OpenFace& f : faces)
-      if (f.kind == FaceKind::Torn)
-        append_frayed_face(world, f.cell, f.face, options.fray_length, opacity[f.cell], mesh);
+  if (options.fray) append_frayed_faces(world, faces, options.fray_length, opacity, mesh);
   return mesh;
 }
 
