@@ -137,12 +137,15 @@ TEST_CASE("the solver keeps its merged springs in step with a tearing sheet", "[
   pt::World w = pt::Simulation(scenes[1].scene, {.threads = 1}).world();
   pt::SolverScratch solver;
   pt::FractureScratch fracture;
-  for (int step = 0; step < scenes[1].steps; ++step) {
+  // Until the tear has run for a while (a few hundred splits), not the scene's whole length:
+  // this test also runs under the sanitizers.
+  for (int step = 0; step < scenes[1].steps && w.events.size() < 200; ++step) {
     pt::integrate_step(w, solver);
     pt::fracture_pass(w, fracture);
     ++w.step;
   }
-  REQUIRE(w.events.size() > 100);
+  INFO("steps " << w.step);
+  REQUIRE(w.events.size() >= 200);
   pt::integrate_step(w, solver);  // brings the table up to date with the last splits
   require_same(w, solver.fine, brute_force(w));
 }
