@@ -30,7 +30,7 @@ class HashStream {
     return mix64(state_);
   }
   // 24 random bits: exactly representable as a float in [0, 1).
-  constexpr float uniform() { return float(next_bits() >> 40) * 0x1.0p-24f; }
+  constexpr float uniform() { return float(std::uint32_t(next_bits() >> 40)) * 0x1.0p-24f; }
   constexpr float uniform(float lo, float hi) { return lo + (hi - lo) * uniform(); }
   constexpr int below(int n) { return int(next_bits() % std::uint64_t(n)); }
 

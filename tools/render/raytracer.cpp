@@ -149,6 +149,8 @@ constexpr int kPacket = 16;
 struct PacketRays {
   std::array<Vec3, kPacket> dir;
   std::array<std::uint64_t, kPacket> key;
+  // The pixel and sample of each ray, from which PixelSampler::aim() sets dir and key.
+  std::array<int, kPacket> x{}, y{}, sample{};
   int count = 0;
 };
 
@@ -610,9 +612,9 @@ class FrameTracer {
 };
 
 // Sub-pixel position of sample s: the R2 sequence (a low-discrepancy rank-1 lattice), shifted
-// per pixel by a hashed offset so neighbouring pixels do not share a pattern.
-std::array<float, 2> subpixel(int x, int y, int s, int samples) {
-  if (samples == 1) return {0.5f, 0.5f};
+// per pixel by a hashed offset so neighbouring pixels do not share a pattern. Inline, so that
+// PixelSampler::aim() vectorises.
+[[gnu::always_inline]] inline std::array<float, 2> subpixel(int x, int y, int s) {
   HashStream rng(hash_key(std::uint64_t(x), std::uint64_t(y), 0x7069786c));
   const float ox = rng.uniform(), oy = rng.uniform();
   const float gx = 0.7548776662f * float(s) + ox, gy = 0.5698402910f * float(s) + oy;
@@ -630,17 +632,59 @@ class PixelSampler {
 
   // The direction of sample k of pixel (x, y).
   Vec3 direction(int x, int y, int k) const {
-    const auto off = subpixel(x, y, k, samples_);
-    const float ndc_x = (2.0f * (float(x) + off[0]) / float(width_) - 1.0f) * tx_;
-    const float ndc_y = (1.0f - 2.0f * (float(y) + off[1]) / float(height_)) * ty_;
-    return (fwd_ + ndc_x * right_ + ndc_y * up_).normalized();
+    std::array<float, 3> d;
+    if (samples_ == 1)
+      aim_lane<true>(x, y, k, d[0], d[1], d[2]);
+    else
+      aim_lane<false>(x, y, k, d[0], d[1], d[2]);
+    return {d[0], d[1], d[2]};
   }
 
-  // Adds sample k of pixel (x, y) to a packet.
-  void add(PacketRays& rays, int x, int y, int k) const {
+  // Adds sample k of pixel (x, y) to a packet; aim() then sets its ray.
+  static void add(PacketRays& rays, int x, int y, int k) {
     const auto i = std::size_t(rays.count++);
-    rays.dir[i] = direction(x, y, k);
-    rays.key[i] = hash_key(std::uint64_t(x), std::uint64_t(y), std::uint64_t(k));
+    rays.x[i] = x;
+    rays.y[i] = y;
+    rays.sample[i] = k;
+  }
+
+  // The directions and keys of a packet's rays.
+  void aim(PacketRays& rays) const {
+    if (samples_ == 1)
+      aim_lanes<true>(rays);
+    else
+      aim_lanes<false>(rays);
+  }
+
+ private:
+  // All kPacket lanes, in plain arrays: a fixed-length loop over one lane's branch-free
+  // scalar code is what the compiler turns into vector code (hashes, divisions and square
+  // roots 16 at a time instead of one after another). Whether rays go through the pixel
+  // centres is a template parameter, not a branch in the loop, for the same reason.
+  template <bool kCentred>
+  void aim_lanes(PacketRays& rays) const {
+    alignas(64) std::array<float, kPacket> dx, dy, dz;
+    for (std::size_t i = 0; i < kPacket; ++i) {
+      aim_lane<kCentred>(rays.x[i], rays.y[i], rays.sample[i], dx[i], dy[i], dz[i]);
+      rays.key[i] = hash_key(std::uint64_t(rays.x[i]), std::uint64_t(rays.y[i]), std::uint64_t(rays.sample[i]));
+    }
+    for (std::size_t i = 0; i < std::size_t(rays.count); ++i) rays.dir[i] = {dx[i], dy[i], dz[i]};
+  }
+
+  // The unit direction of sample k of pixel (x, y), in the same operations and order as
+  // Eigen's (fwd + nx right + ny up).normalized().
+  template <bool kCentred>
+  [[gnu::always_inline]] void aim_lane(int x, int y, int k, float& dx, float& dy, float& dz) const {
+    const auto off = kCentred ? std::array<float, 2>{0.5f, 0.5f} : subpixel(x, y, k);
+    const float ndc_x = (2.0f * (float(x) + off[0]) / float(width_) - 1.0f) * tx_;
+    const float ndc_y = (1.0f - 2.0f * (float(y) + off[1]) / float(height_)) * ty_;
+    dx = fwd_[0] + ndc_x * right_[0] + ndc_y * up_[0];
+    dy = fwd_[1] + ndc_x * right_[1] + ndc_y * up_[1];
+    dz = fwd_[2] + ndc_x * right_[2] + ndc_y * up_[2];
+    const float len = std::sqrt(dx * dx + dy * dy + dz * dz);
+    dx /= len;
+    dy /= len;
+    dz /= len;
   }
 
  private:
@@ -754,6 +798,7 @@ Image Renderer::draw(const SurfaceMesh& mesh, const Camera& camera) const {
     std::array<Vec3, kPacket> out;
     std::array<FrameTracer::SampleInfo, kPacket> info;
     auto flush = [&] {
+      sampler.aim(rays);
       tracer.trace_packet(sampler.eye(), rays, out.data(), info.data());
       for (int i = 0; i < rays.count; ++i) {
         first.colour[dest[std::size_t(i)]] = out[std::size_t(i)];
@@ -783,6 +828,7 @@ Image Renderer::draw(const SurfaceMesh& mesh, const Camera& camera) const {
     std::vector<std::array<int, 2>> print_only;
     PacketRays rays;
     auto flush = [&] {
+      sampler.aim(rays);
       sample.resize(sample.size() + std::size_t(rays.count));
       tracer.trace_packet(sampler.eye(), rays, sample.data() + sample.size() - std::size_t(rays.count));
       rays.count = 0;
