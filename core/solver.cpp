@@ -26,12 +26,15 @@ CellForceInputs stage_inputs(const World& w, const SolverScratch& scratch) {
 // Brings the merged fine springs up to date with the topology. Fracture records every split
 // as an event and adds one node per split, so when the counts agree only the cells around
 // the new events' vertices can have changed; anything else (a new world, splits made
-// outside the fracture pass) rebuilds the table.
-void sync_fine_springs(const World& w, SolverScratch& scratch) {
+// outside the fracture pass) rebuilds the table. Returns false when nothing had changed
+// since the last call (no split: the block lattice's refresh can be skipped too, since a
+// block is entered only by a split).
+bool sync_fine_springs(const World& w, SolverScratch& scratch) {
   const std::size_t cells = std::size_t(w.topo.dims.cells());
   const bool incremental = scratch.fine_topology == w.topo.cell_nodes.data() && scratch.fine.cells == cells &&
                            w.nodes.count >= scratch.fine_nodes && w.events.size() >= scratch.fine_events &&
                            w.nodes.count - scratch.fine_nodes == w.events.size() - scratch.fine_events;
+  const bool changed = !incremental || w.nodes.count != scratch.fine_nodes;
   if (!incremental) {
     prepare_fine_springs(w.topo, w.springs, scratch.fine);
     parallel_chunks(cells, kCellChunk, [&](std::size_t b, std::size_t e, std::size_t) {
@@ -44,6 +47,7 @@ void sync_fine_springs(const World& w, SolverScratch& scratch) {
   scratch.fine_topology = w.topo.cell_nodes.data();
   scratch.fine_nodes = w.nodes.count;
   scratch.fine_events = w.events.size();
+  return changed;
 }
 
 // Gripped nodes move at the grip's (ramped) velocity for the whole step: their acceleration
@@ -210,7 +214,7 @@ void integrate_step(World& w, SolverScratch& scratch) {
   const std::size_t vertices = std::size_t(w.topo.dims.vertices());
   scratch.bad.assign(chunk_count(vertices, kVertexChunk) + chunk_count(w.nodes.count - fused_node_end(w), kNodeChunk),
                      kNone);
-  sync_fine_springs(w, scratch);
+  const bool new_topology = sync_fine_springs(w, scratch);
   const CellForceInputs in = stage_inputs(w, scratch);
   const ForceOutputs out = force_outputs(w);
   // The indenter (pierce only) is where it is at each stage's time: t, t + dt/2 twice, t + dt.
@@ -221,7 +225,7 @@ void integrate_step(World& w, SolverScratch& scratch) {
   constexpr double kStageTime[4] = {0.0, 0.5, 0.5, 1.0};
   for (int stage = 1; stage <= 4; ++stage) {
     if (indenter) apply_contact(w, *indenter, w.time + kStageTime[stage - 1] * w.dt);
-    add_fine_and_block_forces(w, scratch, in, out, stage == 1);  // fracture splits between steps
+    add_fine_and_block_forces(w, scratch, in, out, stage == 1 && new_topology);  // splits come between steps
     stage_nodes(w, scratch, out, stage_params(w, stage));
   }
   for (std::uint32_t bad : scratch.bad)
