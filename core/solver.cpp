@@ -99,40 +99,52 @@ void parallel_chunks_pair(std::size_t na, std::size_t chunk_a, const BodyA& body
   });
 }
 
-// The fine springs in 4 parallel regions ("phases") instead of one per colour. Phase p
-// holds the lattice rows (j, k) with j % 2 == p & 1 and k % 2 == p >> 1: colours 2p (even i)
-// and 2p + 1 (odd i). A task takes whole rows and adds colour 2p of its rows, then colour
-// 2p + 1. The bits are those of 8 colour regions: around a node there is exactly one row of
-// each phase (one j and one k of each parity), so its two cells of a phase lie in one task
-// and are added in colour order, and phases run in colour order; rows of different tasks
-// differ by at least 2 in j or k, so tasks never share a node. Task boundaries depend on
-// the lattice size alone.
-struct FinePhase {
-  const std::vector<std::uint32_t>* even;  // colour 2p, row by row
-  const std::vector<std::uint32_t>* odd;   // colour 2p + 1, row by row
-  std::size_t rows = 0, even_per_row = 0, odd_per_row = 0, rows_per_task = 1;
+// The fine springs by strips of rows. Phase p (0..3) holds the lattice rows (j, k) with
+// j % 2 == p & 1 and k % 2 == p >> 1: colours 2p (even i) and 2p + 1 (odd i). A strip is
+// kStripRows consecutive values of j (all k); its task runs the 4 phases of its rows back to
+// back, each row colour 2p then 2p + 1, while the strip's nodes are in cache. Even strips run
+// in one parallel region, odd strips in the next: strips of one parity are at least a strip
+// apart, so they never share a node. Around a node there is exactly one row of each phase,
+// so a node inside a strip gets its cells' terms in colour order; a node on the row of
+// vertices between two strips gets the even strip's terms (in colour order), then the odd
+// strip's. Strips depend on the lattice size alone, so the order, and the bits, do not
+// depend on the thread count.
 
-  std::size_t tasks() const { return chunk_count(rows, rows_per_task); }
-  void run(std::size_t task, const CellForceInputs& in, const ForceOutputs& out) const {
-    const std::size_t r0 = task * rows_per_task, r1 = std::min(rows, r0 + rows_per_task);
-    add_cell_row_forces(r0 * even_per_row, r1 * even_per_row, even_per_row, even->data(), in, out);
-    add_cell_row_forces(r0 * odd_per_row, r1 * odd_per_row, odd_per_row, odd->data(), in, out);
+struct FineStrips {
+  const Topology* topo = nullptr;
+  std::size_t strips = 0;
+
+  static std::size_t with_parity(int n, int parity) { return std::size_t((n + 1 - parity) / 2); }
+
+  // Phase p of cell rows j in [j0, j1).
+  void run_phase(int p, int j0, int j1, const CellForceInputs& in, const ForceOutputs& out) const {
+    const LatticeDims& d = topo->dims;
+    const int jpar = p & 1, kpar = p >> 1;
+    const std::vector<std::uint32_t>& even = topo->colour_cells[std::size_t(2 * p)];
+    const std::vector<std::uint32_t>& odd = topo->colour_cells[std::size_t(2 * p + 1)];
+    const std::size_t nj = with_parity(d.ny, jpar), even_per_row = with_parity(d.nx, 0), odd_per_row = with_parity(d.nx, 1);
+    // core/lattice_builder.cpp lists each colour's cells by ascending id: row (jj, kk) is
+    // list row kk * nj + jj, with j = 2 jj + jpar and k = 2 kk + kpar.
+    assert(even.size() == nj * with_parity(d.nl, kpar) * even_per_row);
+    const std::size_t jj0 = with_parity(j0, jpar), jj1 = with_parity(j1, jpar);
+    for (std::size_t kk = 0; kk < with_parity(d.nl, kpar); ++kk) {
+      const std::size_t r0 = kk * nj + jj0, r1 = kk * nj + jj1;
+      if (r0 >= r1) continue;
+      add_cell_row_forces(r0 * even_per_row, r1 * even_per_row, even_per_row, even.data(), in, out);
+      add_cell_row_forces(r0 * odd_per_row, r1 * odd_per_row, odd_per_row, odd.data(), in, out);
+    }
   }
+
+  void run(std::size_t strip, const CellForceInputs& in, const ForceOutputs& out) const {
+    const int j0 = int(strip) * kStripRows, j1 = std::min(topo->dims.ny, j0 + kStripRows);
+    for (int p = 0; p < 4; ++p) run_phase(p, j0, j1, in, out);
+  }
+  std::size_t even_strips() const { return (strips + 1) / 2; }
+  std::size_t odd_strips() const { return strips / 2; }
 };
 
-FinePhase fine_phase(const Topology& topo, int p) {
-  const LatticeDims& d = topo.dims;
-  auto with_parity = [](int n, int parity) { return std::size_t((n + 1 - parity) / 2); };
-  FinePhase f;
-  f.even = &topo.colour_cells[std::size_t(2 * p)];
-  f.odd = &topo.colour_cells[std::size_t(2 * p + 1)];
-  f.rows = with_parity(d.ny, p & 1) * with_parity(d.nl, p >> 1);
-  f.even_per_row = with_parity(d.nx, 0);
-  f.odd_per_row = with_parity(d.nx, 1);
-  f.rows_per_task = std::max<std::size_t>(1, kCellChunk / std::size_t(std::max(d.nx, 1)));
-  // core/lattice_builder.cpp lists each colour's cells by ascending id, i.e. row by row.
-  assert(f.even->size() == f.rows * f.even_per_row && f.odd->size() == f.rows * f.odd_per_row);
-  return f;
+FineStrips fine_strips(const Topology& topo) {
+  return {&topo, chunk_count(std::size_t(std::max(topo.dims.ny, 0)), std::size_t(kStripRows))};
 }
 
 // All fine springs and pass 1 of the block lattice (which shares the first phase's region:
@@ -146,17 +158,14 @@ void add_fine_and_block_forces(World& w, SolverScratch& scratch, const CellForce
     build_block_lattice(w.coarse, w.blocks, w.topo.dims, lattice);
     new_topology = true;
   }
-  const FinePhase first = fine_phase(w.topo, 0);
+  const FineStrips strips = fine_strips(w.topo);
   parallel_chunks_pair(
-      first.tasks(), 1, [&](std::size_t t, std::size_t) { first.run(t, in, out); },
+      strips.even_strips(), 1, [&](std::size_t t, std::size_t) { strips.run(2 * t, in, out); },
       lattice.lanes, kBlockChunk, [&](std::size_t b, std::size_t e) {
         if (new_topology) refresh_block_lattice(b, e, w.topo, w.blocks, lattice);
         block_lattice_forces(b, e, in, lattice);
       });
-  for (int p = 1; p < 4; ++p) {
-    const FinePhase phase = fine_phase(w.topo, p);
-    parallel_chunks(phase.tasks(), 1, [&](std::size_t t, std::size_t, std::size_t) { phase.run(t, in, out); });
-  }
+  parallel_chunks(strips.odd_strips(), 1, [&](std::size_t t, std::size_t, std::size_t) { strips.run(2 * t + 1, in, out); });
 }
 
 ForceOutputs force_outputs(World& w) { return {w.scratch.fx.data(), w.scratch.fy.data(), w.scratch.fz.data()}; }
@@ -191,10 +200,9 @@ void stage_nodes(World& w, SolverScratch& scratch, const ForceOutputs& out, cons
 }  // namespace
 
 void add_fine_forces(const Topology& topo, const CellForceInputs& in, const ForceOutputs& out) {
-  for (int p = 0; p < 4; ++p) {
-    const FinePhase phase = fine_phase(topo, p);
-    parallel_chunks(phase.tasks(), 1, [&](std::size_t t, std::size_t, std::size_t) { phase.run(t, in, out); });
-  }
+  const FineStrips strips = fine_strips(topo);
+  parallel_chunks(strips.even_strips(), 1, [&](std::size_t t, std::size_t, std::size_t) { strips.run(2 * t, in, out); });
+  parallel_chunks(strips.odd_strips(), 1, [&](std::size_t t, std::size_t, std::size_t) { strips.run(2 * t + 1, in, out); });
 }
 
 void evaluate_forces(World& w, SolverScratch& scratch) {

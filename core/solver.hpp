@@ -4,19 +4,21 @@
 // which coincident fine springs) is brought up to date with the splits since the last step.
 // Per stage, in this order (each line is one or more parallel regions; kernels/parallel.hpp
 // explains why the result does not depend on the thread count):
-//   1. fine springs, 4 phases            phase p = rows (j, k) of parity (p & 1, p >> 1), i.e.
-//                                        colours 2p and 2p + 1; a task takes whole rows and
-//                                        adds colour 2p, then 2p + 1 (core/solver.cpp: why the
-//                                        bits are those of one region per colour)
-//      block lattice, pass 1             parallel over blocks (8 per vector), in the same region
-//                                        as phase 0: one force sum per block corner
+//   1. fine springs, by strips of rows   a task takes a strip of kStripRows values of j and
+//                                        runs its 4 phases (phase p = rows (j, k) of parity
+//                                        (p & 1, p >> 1), colours 2p then 2p + 1) while its nodes
+//                                        are in cache; even strips in one region, odd strips
+//                                        in the next (core/solver.cpp: the order each node gets)
+//      block lattice, pass 1             parallel over blocks, in the same region as the even
+//                                        strips: one force sum per block corner
 //   2. block lattice, pass 2             parallel over lattice vertices, each adding the corner
 //      + node update (kernels/rk4.hpp)   sums of its blocks in ascending block id
 //                                        (kernels/coarse_forces.hpp), then updating the nodes
 //                                        whose id is that vertex; clears forces for the next stage
 //      node update of split nodes        after that region (nodes from splits sit anywhere)
-// That is 5 parallel regions per stage. Each node's force is its cells' terms in colour
-// order, then its blocks' corner sums in block order, whatever the thread count.
+// That is 3 parallel regions per stage. Each node's force is its cells' terms in colour
+// order (strip by strip on the rows of vertices between strips), then its blocks' corner
+// sums in block order, whatever the thread count.
 // Under a pierce load the indenter's contact force (core/contact.hpp) is added after step 2,
 // parallel over nodes. Gripped nodes get their prescribed velocity before stage 1. After stage 4 the step checks
 // for a blow-up (non-finite or runaway state) and throws BlowUpError naming the step and node.
@@ -46,9 +48,12 @@ inline constexpr std::size_t kCellChunk = 512;  // fracture detection; fine-spri
 inline constexpr std::size_t kNodeChunk = 2048;
 inline constexpr std::size_t kVertexChunk = 2048;
 inline constexpr std::size_t kBlockChunk = 256;  // block-lattice lanes
+// Fine springs: cell rows (values of j) per strip. Small enough that a strip's nodes stay in
+// cache through its 4 phases and that even a 90-row sheet gives each thread several strips.
+inline constexpr int kStripRows = 4;
 static_assert(kBlockChunk % kBlockLanes == 0, "block chunks hold whole vectors");
 
-// Adds the fine spring forces only, in the solver's 4 phases (for benchmarks and tests).
+// Adds the fine spring forces only, by the solver's strips of rows (for benchmarks and tests).
 void add_fine_forces(const Topology& topo, const CellForceInputs& in, const ForceOutputs& out);
 // Evaluates all spring forces at the stage state into scratch.fx/fy/fz (which must be zero).
 void evaluate_forces(World& world, SolverScratch& scratch);

@@ -9,9 +9,11 @@
 #include <random>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <catch2/catch.hpp>
+#include <oneapi/tbb/task_arena.h>
 
 #include "core/simulation.hpp"
 #include "core/solver.hpp"
@@ -217,27 +219,57 @@ bool same_bits(const std::vector<float>& a, const std::vector<float>& b) {
 
 }  // namespace
 
-TEST_CASE("the solver's phases of rows add the same bits as one pass per colour", "[reference]") {
+TEST_CASE("the solver's strips of rows add the same bits as one pass per colour within a strip", "[reference]") {
   // 37 cells per row: 19 and 18 cells per colour, so a row holds whole vector groups and an
   // overlapping last one; 7 cells per row: rows shorter than a vector. The splits make some
-  // groups irregular (their nodes no longer consecutive).
+  // groups irregular (their nodes no longer consecutive). One strip of rows: every node gets
+  // its cells' terms in colour order, as one pass per colour adds them.
   for (int nx : {37, 7}) {
     pt::Scene scene = small_pull_scene();
-    scene.sheet.cells = {nx, 6, 3};
+    scene.sheet.cells = {nx, pt::kStripRows, 3};
     pt::World w = perturbed_world(scene, 41, 0.1f, 0.05f);
     const pt::LatticeDims& d = w.topo.dims;
     for (int i = 2; i < nx; i += 5)
-      REQUIRE(pt::split_node(w, pt::NodeId(d.vertex_index(i, 3, 1)), i % 2 == 0 ? 0 : 1, 1).valid());
+      REQUIRE(pt::split_node(w, pt::NodeId(d.vertex_index(i, 2, 1)), i % 2 == 0 ? 0 : 1, 1).valid());
     const Forces colours = cell_forces(w, pt::add_cell_forces);
-    Forces phases(w.nodes.count);
+    Forces strips(w.nodes.count);
     pt::FineSprings fine;
-    pt::add_fine_forces(w.topo, cell_inputs(w, fine), phases.outputs());
+    pt::add_fine_forces(w.topo, cell_inputs(w, fine), strips.outputs());
     INFO("cells per row " << nx);
-    CHECK(same_bits(colours.x, phases.x));
-    CHECK(same_bits(colours.y, phases.y));
-    CHECK(same_bits(colours.z, phases.z));
-    CHECK(*std::max_element(phases.x.begin(), phases.x.end()) > 1e-3f);  // the springs are loaded
+    CHECK(same_bits(colours.x, strips.x));
+    CHECK(same_bits(colours.y, strips.y));
+    CHECK(same_bits(colours.z, strips.z));
+    CHECK(*std::max_element(strips.x.begin(), strips.x.end()) > 1e-3f);  // the springs are loaded
   }
+}
+
+TEST_CASE("many strips of rows: the same bits on any thread count, colour-pass sums within rounding", "[reference]") {
+  // Rows of vertices between strips get the lower strip's terms first, then the upper's: a
+  // fixed order, but not the colour order, so only rounding may differ from the colour pass.
+  pt::Scene scene = small_pull_scene();
+  scene.sheet.cells = {21, 5 * pt::kStripRows + 2, 3};
+  const pt::World w = perturbed_world(scene, 43, 0.1f, 0.05f);
+  const Forces colours = cell_forces(w, pt::add_cell_forces);
+  pt::FineSprings fine;
+  const pt::CellForceInputs in = cell_inputs(w, fine);
+  Forces one(w.nodes.count);
+  tbb::task_arena(1).execute([&] { pt::add_fine_forces(w.topo, in, one.outputs()); });
+  for (int threads : {2, 3}) {
+    Forces many(w.nodes.count);
+    tbb::task_arena(threads).execute([&] { pt::add_fine_forces(w.topo, in, many.outputs()); });
+    INFO(threads << " threads");
+    CHECK(same_bits(one.x, many.x));
+    CHECK(same_bits(one.y, many.y));
+    CHECK(same_bits(one.z, many.z));
+  }
+  double largest = 0.0, worst = 0.0;
+  for (std::size_t i = 0; i < w.nodes.count; ++i)
+    for (const auto& [a, b] : {std::pair{one.x[i], colours.x[i]}, {one.y[i], colours.y[i]}, {one.z[i], colours.z[i]}}) {
+      largest = std::max(largest, double(std::fabs(b)));
+      worst = std::max(worst, double(std::fabs(a - b)));
+    }
+  REQUIRE(largest > 1e-3);
+  CHECK(worst <= 1e-5 * largest);
 }
 
 TEST_CASE("solver follows the reference model on a pulled sheet", "[reference]") {
