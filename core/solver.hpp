@@ -44,7 +44,7 @@ struct SolverScratch {
 };
 
 // Chunk sizes (elements per task). Fixed numbers, never derived from the thread count.
-inline constexpr std::size_t kCellChunk = 512;  // fracture detection; fine-spring tasks take ~this many cells in whole rows
+inline constexpr std::size_t kCellChunk = 512;  // fracture detection, energies, the merged-spring table's build
 inline constexpr std::size_t kNodeChunk = 2048;
 inline constexpr std::size_t kVertexChunk = 2048;
 inline constexpr std::size_t kBlockChunk = 256;  // block-lattice lanes
