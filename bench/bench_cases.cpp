@@ -30,7 +30,7 @@ Scene quiet_pull_scene(const Size& size) {
   return scene;
 }
 
-double bytes_per_cell(const World& w) {
+SolverFootprint solver_footprint(const World& w) {
   const double nodes = double(w.nodes.count);
   const double node_bytes = nodes * (9 * 4 + 4 + 1) + nodes * 15 * 4;  // NodeStore + IntegratorScratch
   const double cell_bytes = double(w.topo.cell_nodes.size()) * 4 + double(w.topo.cell_scale.size()) * 4 +
@@ -48,15 +48,12 @@ double bytes_per_cell(const World& w) {
       double(lattice.live.size() + lattice.rest.size() + lattice.stiffness.size() + lattice.damping.size() +
              lattice.fx.size() + lattice.fy.size() + lattice.fz.size()) * 4;
   const double cells = double(w.topo.dims.cells());
-  return cells > 0 ? (node_bytes + cell_bytes + coarse_bytes + fine_bytes + lattice_bytes) / cells : 0.0;
-}
-
-double evaluated_springs(const World& w) {
-  FineSprings fine;
-  build_fine_springs(w.topo, w.springs, fine);
-  double distinct = 0.0;
-  for (std::uint32_t owned : fine.owned) distinct += double(std::popcount(owned));
-  return distinct + double(w.coarse.size());
+  SolverFootprint f;
+  f.bytes_per_cell = cells > 0 ? (node_bytes + cell_bytes + coarse_bytes + fine_bytes + lattice_bytes) / cells : 0.0;
+  // Distinct fine springs (one bit per owned slot; the flag bits are not slots) and block springs.
+  for (std::size_t c = 0; c < fine.cells; ++c) f.evaluated_springs += double(std::popcount(fine.owned[c] & kAllSlots));
+  f.evaluated_springs += double(w.coarse.size());
+  return f;
 }
 
 void set_throughput_counters(benchmark::State& state, const Size& size, double springs_per_iteration,

@@ -52,13 +52,16 @@ double timed(const Body& body) {
 void set_throughput_counters(benchmark::State& state, const Size& size, double springs_per_iteration,
                              double total_seconds, const char* per_cell_counter);
 
-// Bytes of solver state per cell (node columns, RK4 scratch, cell table and per-cell data,
-// block-lattice springs, and the solver's merged-spring and block-lattice tables) of a built
-// world: what one step streams through at least once.
-double bytes_per_cell(const World& world);
-// Springs one force evaluation computes: the distinct fine springs (coincident ones merged,
-// kernels/fine_springs.hpp) and the block-lattice springs. Each costs a sqrt and a division.
-double evaluated_springs(const World& world);
+struct SolverFootprint {
+  // Bytes of solver state per cell (node columns, RK4 scratch, cell table and per-cell data,
+  // block-lattice springs, and the solver's merged-spring and block-lattice tables) of a
+  // built world: what one step streams through at least once.
+  double bytes_per_cell = 0.0;
+  // Springs one force evaluation computes: the distinct fine springs (coincident ones merged,
+  // kernels/fine_springs.hpp) and the block-lattice springs. Each costs a sqrt and a division.
+  double evaluated_springs = 0.0;
+};
+SolverFootprint solver_footprint(const World& world);
 
 // Each registers its cases with Google Benchmark (called once, from main).
 void register_step_benchmarks();
