@@ -205,6 +205,7 @@ TEST_CASE("papertear: bad input fails with one line naming the problem and write
   const fs::path out = dir / "out";
   const std::string out_arg = " --out '" + out.string() + "'";
   std::ofstream(dir / "broken.toml") << "[sheet]\ncells = [6, 6, 2\n";
+  std::ofstream(dir / "unstable.toml") << "[sheet]\ncells = [6, 6, 2]\n\n[run]\ndt = 100.0\n";
   std::ofstream(dir / "file.txt") << "x";
 
   struct Case {
@@ -219,7 +220,8 @@ TEST_CASE("papertear: bad input fails with one line naming the problem and write
       {"run --set sheet.density=heavy", {"sheet.density", "expected a number"}},
       {"run --set 'sheet.cells=[0,6,2]'", {"sheet.cells"}},
       {"run --set material.k_edge=nan", {"material.k_edge", "finite"}},
-      {"run --set 'sheet.cells=[6,6,2]' --set run.dt=100", {"run.dt", "stable"}},
+      {"run --set 'sheet.cells=[6,6,2]' --set run.dt=100", {"--set run.dt=100: run.dt", "stable"}},
+      {"run '" + (dir / "unstable.toml").string() + "'", {"unstable.toml:5:", "run.dt", "stable limit"}},
       {"run --threads -2", {"--threads"}},
       {"run --set print.image=no_such_print.png", {"no_such_print.png"}},
   };
@@ -236,6 +238,10 @@ TEST_CASE("papertear: bad input fails with one line naming the problem and write
   const CliResult r = run_cli(std::string("run ") + kTiny + " --out '" + (dir / "file.txt" / "out").string() + "'", dir);
   CHECK(r.code == 1);
   CHECK_THAT(r.err, Contains("file.txt") && Contains("not a directory"));
+
+  const CliResult info = run_cli("info '" + (dir / "unstable.toml").string() + "'", dir);
+  CHECK(info.code == 1);
+  CHECK_THAT(info.err, Contains("unstable.toml:5:") && Contains("run.dt") && Contains("stable limit"));
 }
 
 TEST_CASE("papertear run: summary.json agrees with stdout", "[cli]") {

@@ -19,6 +19,14 @@ io::SceneFile resolve_scene(const SceneOptions& options, const std::vector<io::S
   return io::load_scene_file(options.scene_path, overrides);
 }
 
+Simulation make_simulation(const io::SceneFile& file, int threads) {
+  try {
+    return Simulation(file.scene, {.threads = threads});
+  } catch (const SceneError& e) {
+    io::rethrow_located(e, file);
+  }
+}
+
 int resolved_threads(int requested) {
   return requested > 0 ? requested : tbb::info::default_concurrency();
 }

@@ -99,6 +99,9 @@ int execute_run(RunSession& session);
 // Throws papertear::SceneError.
 io::SceneFile resolve_scene(const SceneOptions& options,
                             const std::vector<io::SetOverride>& extra = {});
+// The file's Simulation; a scene the constructor refuses (run.dt above the stable limit)
+// gets its error located in the file like any other bad value. Throws SceneError.
+Simulation make_simulation(const io::SceneFile& file, int threads);
 // The worker count a Simulation given `requested` threads will use.
 int resolved_threads(int requested);
 // io::check_output_dir with the error naming the --out option. Throws io::OutputError.

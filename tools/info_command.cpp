@@ -103,7 +103,7 @@ void print_timing(const Scene& s, const Simulation& sim, double stable, int thre
 int info_command(const SceneOptions& options) {
   try {
     io::SceneFile file = resolve_scene(options);
-    Simulation sim(file.scene, {.threads = options.threads});
+    Simulation sim = make_simulation(file, options.threads);
     print_sizes(file, sim);
     double stable = Simulation::stable_dt_limit(file.scene);
     StepTiming timing = time_steps(sim);

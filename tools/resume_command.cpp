@@ -67,7 +67,7 @@ RunSession prepare(const ResumeOptions& options, const std::optional<fs::path>& 
   if (options.steps) state.plan.end_step = step + *options.steps;
   check_plan(state, step, options.checkpoint);
   io::SceneFile file{loaded.world.scene, parse_render_config(state.render_config, options.checkpoint),
-                     state.scene_path};
+                     state.scene_path, {}};
   Simulation sim(std::move(loaded.world), {.threads = options.threads});
   const fs::path* out_dir = out ? &*out : nullptr;
   auto sinks = make_frame_sinks(file, out_dir);

@@ -35,8 +35,7 @@ RunSession prepare(const RunOptions& options, const std::filesystem::path* out_d
   if (options.checkpoints.every > 0 && !out_dir)
     throw SceneError("--checkpoint-every needs --out DIR (checkpoints go to DIR/checkpoints)");
   io::SceneFile file = resolve_scene(options.scene, step_overrides(options));
-  // The constructor refuses a run.dt above the stable limit.
-  Simulation sim(file.scene, {.threads = options.scene.threads});
+  Simulation sim = make_simulation(file, options.scene.threads);  // refuses a run.dt above the stable limit
   auto sinks = make_frame_sinks(file, out_dir);
   if (out_dir) check_output_dir_option(*out_dir);
   const io::FramePlan plan = io::FramePlan::for_run(file.scene.run, 0);

@@ -302,8 +302,11 @@ SceneFile parse_scene(std::string_view text, std::string_view source_name,
   file.scene = read_scene(doc, source_name);
   file.render_config = take_renderer_sections(doc);
   file.path = std::string(source_name);
+  file.document = std::move(doc);
   return file;
 }
+
+void rethrow_located(const SceneError& e, const SceneFile& file) { rethrow_located(e, file.document, file.path); }
 
 SceneFile load_scene_file(const std::string& path, std::span<const SetOverride> overrides) {
   std::error_code ec;

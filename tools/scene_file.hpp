@@ -51,7 +51,13 @@ struct SceneFile {
   toml::table render_config;  // the renderer's sections as written (with --set applied);
                               // nodes keep their source, so io::where() locates them
   std::string path;           // the scene file; empty for the built-in default
+  toml::table document;       // the scene's own sections as read, for locating errors that
+                              // only later checks find (rethrow_located)
 };
+
+// Re-throws a SceneError whose message starts with a key ("run.dt: ...") with the place
+// that key was written in the file or on the command line, when it was written at all.
+[[noreturn]] void rethrow_located(const SceneError& e, const SceneFile& file);
 
 // Reads a scene file. Throws SceneError (missing file, syntax error with line and column,
 // unknown key, wrong type, impossible value).
