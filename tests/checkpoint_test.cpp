@@ -366,7 +366,7 @@ TEST_CASE("run_frames stops on its flag, checkpoints, and a resumed loop matches
   struct StopAt : io::FrameSink {
     volatile std::sig_atomic_t* flag;
     explicit StopAt(volatile std::sig_atomic_t* f) : flag(f) {}
-    void on_frame(const pt::Simulation&, int frame, const pt::Metrics&) override {
+    void on_frame(const pt::Simulation&, int frame, int, const pt::Metrics&) override {
       if (frame == 3) *flag = SIGINT;
     }
   };
@@ -579,6 +579,33 @@ TEST_CASE("papertear resume: same digest and summary as an uninterrupted run", "
   CHECK(m["final"]["step"] == 350);
   CHECK(m["steps"] == 350);
   CHECK(m["frames"].size() == 4);  // three measured before the checkpoint, one at step 350
+}
+
+TEST_CASE("papertear resume past the plan writes the mesh of its own last frame", "[checkpoint][cli]") {
+  const fs::path dir = test_dir("cli_resume_mesh");
+  const fs::path part = dir / "part", more = dir / "more";
+  const std::string tiny =
+      "--set 'sheet.cells=[6,6,2]' --set load.notch=0 --set load.grip_margin=0 --set output.png=false "
+      "--set output.mesh=glb --quiet";
+  REQUIRE(run_cli("run " + tiny + " --steps 40 --frames 4 --checkpoint-every 10 --keep-checkpoints 0 --out " +
+                      quoted(part),
+                  dir)
+              .code == 0);
+  auto meshes_in = [](const fs::path& d) {
+    std::vector<std::string> names;
+    for (const auto& e : fs::directory_iterator(d / "mesh")) names.push_back(e.path().filename());
+    std::sort(names.begin(), names.end());
+    return names;
+  };
+  CHECK(meshes_in(part) == std::vector<std::string>{"frame_0003.glb"});
+  // From step 30 to step 60: frames 3, 4 and 5 at the plan's spacing; the last is frame 5.
+  const CliResult r = run_cli("resume " + quoted(io::checkpoint_path(part, 30)) + " --steps 30 --quiet --out " +
+                                  quoted(more),
+                              dir);
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  CHECK(summary_of(more)["frames"].size() == 6);
+  CHECK(meshes_in(more) == std::vector<std::string>{"frame_0005.glb"});
 }
 
 TEST_CASE("papertear run keeps the newest checkpoints; bad resumes fail cleanly", "[checkpoint][cli]") {

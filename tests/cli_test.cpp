@@ -56,7 +56,7 @@ struct RecordingSink : io::FrameSink {
   std::vector<int> frames;
   std::vector<std::int64_t> sim_steps, metric_steps;
   void on_start(const pt::Simulation&) override { ++starts; }
-  void on_frame(const pt::Simulation& sim, int frame, const pt::Metrics& m) override {
+  void on_frame(const pt::Simulation& sim, int frame, int, const pt::Metrics& m) override {
     frames.push_back(frame);
     sim_steps.push_back(sim.steps_done());
     metric_steps.push_back(m.step);

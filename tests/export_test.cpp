@@ -242,8 +242,8 @@ TEST_CASE("the run's render sinks write frames and meshes as [output] asks", "[e
   REQUIRE(sinks.size() == 1);
   CHECK(fs::is_empty(dir.path));  // constructing writes nothing
   sinks[0]->on_start(sim);
-  sinks[0]->on_frame(sim, 0, Metrics{});
-  sinks[0]->on_frame(sim, 1, Metrics{});
+  sinks[0]->on_frame(sim, 0, 2, Metrics{});
+  sinks[0]->on_frame(sim, 1, 2, Metrics{});
   auto names_in = [](const fs::path& d) {
     std::set<std::string> names;
     for (const auto& entry : fs::directory_iterator(d)) names.insert(entry.path().filename().string());

@@ -26,8 +26,9 @@ class FrameSink {
  public:
   virtual ~FrameSink() = default;
   virtual void on_start(const Simulation& sim) { (void)sim; }
-  // `frame` counts from 0 to run.frames - 1.
-  virtual void on_frame(const Simulation& sim, int frame, const Metrics& metrics) = 0;
+  // `frame` counts from 0 to frames - 1, the frames of the run's plan (run.frames, or more
+  // when a resumed run goes on past it: resume --steps).
+  virtual void on_frame(const Simulation& sim, int frame, int frames, const Metrics& metrics) = 0;
   virtual void on_finish(const Simulation& sim, const RunRecord& record) {
     (void)sim;
     (void)record;

@@ -133,7 +133,7 @@ RunRecord run_frames(Simulation& sim, std::span<FrameSink* const> sinks, Progres
     }
     Metrics metrics = measure(sim.world());
     record.frames.push_back(metrics);
-    for (FrameSink* sink : sinks) sink->on_frame(sim, f, metrics);
+    for (FrameSink* sink : sinks) sink->on_frame(sim, f, frames, metrics);
     if (progress) progress->frame_done(f, metrics);
     loop.after_frame(end);
     if (f + 1 < frames && loop.stop_requested()) {

@@ -42,8 +42,8 @@ class RenderSink final : public io::FrameSink {
       write_png(mesh_dir() / (output_.prefix + "_print.png"), renderer_.print());
   }
 
-  void on_frame(const Simulation& sim, int frame, const Metrics&) override {
-    const bool last = frame + 1 == sim.scene().run.frames;
+  void on_frame(const Simulation& sim, int frame, int frames, const Metrics&) override {
+    const bool last = frame + 1 == frames;
     const bool mesh_due = (output_.glb || output_.obj) && (output_.mesh_every_frame || last);
     if (!output_.png && !mesh_due) return;
     const SurfaceMesh mesh = build_surface_mesh(sim.world(), renderer_.mesh_options());

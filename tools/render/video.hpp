@@ -19,7 +19,7 @@ class VideoSink final : public io::FrameSink {
   // where ffmpeg is looked for (the PATH); notices go to `log`.
   VideoSink(std::filesystem::path frames_dir, std::string prefix, std::filesystem::path out_dir, int fps,
             std::string search_path, std::ostream& log);
-  void on_frame(const Simulation&, int, const Metrics&) override {}
+  void on_frame(const Simulation&, int, int, const Metrics&) override {}
   void on_finish(const Simulation& sim, const io::RunRecord& record) override;
 
  private:
