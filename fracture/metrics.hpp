@@ -24,6 +24,26 @@ struct Metrics {
   std::int64_t intact_blocks = 0;      // blocks no crack has entered
 };
 
+// Calls f(name, field) for every field of a Metrics (const or not), in declaration order:
+// the one list of the metrics' names that writers and readers (JSON summaries, run state)
+// share.
+template <class M, class F>
+void visit_metrics(M& m, F&& f) {
+  f("step", m.step);
+  f("time", m.time);
+  f("splits_inplane", m.splits_inplane);
+  f("splits_interlayer", m.splits_interlayer);
+  f("pieces", m.pieces);
+  f("torn_edge_length", m.torn_edge_length);
+  f("edge_roughness", m.edge_roughness);
+  f("peeled_area", m.peeled_area);
+  f("grip_force", m.grip_force);
+  f("indenter_force", m.indenter_force);
+  f("kinetic_energy", m.kinetic_energy);
+  f("elastic_energy", m.elastic_energy);
+  f("intact_blocks", m.intact_blocks);
+}
+
 // Measures a world. Deterministic (serial or fixed-order reductions).
 Metrics measure(const World& world);
 

@@ -16,23 +16,10 @@ using nlohmann::json;
 constexpr const char* kRunStateSchema = "papertear-run-state";
 constexpr int kRunStateVersion = 1;
 
-// The inverse of metrics_to_json (tools/summary.hpp); a test checks that the two agree on
-// every key.
+// The inverse of metrics_to_json (tools/summary.hpp): the same keys (visit_metrics).
 Metrics metrics_from_json(const json& j) {
   Metrics m;
-  j.at("step").get_to(m.step);
-  j.at("time").get_to(m.time);
-  j.at("splits_inplane").get_to(m.splits_inplane);
-  j.at("splits_interlayer").get_to(m.splits_interlayer);
-  j.at("pieces").get_to(m.pieces);
-  j.at("torn_edge_length").get_to(m.torn_edge_length);
-  j.at("edge_roughness").get_to(m.edge_roughness);
-  j.at("peeled_area").get_to(m.peeled_area);
-  j.at("grip_force").get_to(m.grip_force);
-  j.at("indenter_force").get_to(m.indenter_force);
-  j.at("kinetic_energy").get_to(m.kinetic_energy);
-  j.at("elastic_energy").get_to(m.elastic_energy);
-  j.at("intact_blocks").get_to(m.intact_blocks);
+  visit_metrics(m, [&](const char* key, auto& value) { j.at(key).get_to(value); });
   return m;
 }
 

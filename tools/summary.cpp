@@ -39,21 +39,9 @@ std::string digest_hex(std::uint64_t digest) {
 }
 
 nlohmann::json metrics_to_json(const Metrics& m) {
-  return {
-      {"step", m.step},
-      {"time", m.time},
-      {"splits_inplane", m.splits_inplane},
-      {"splits_interlayer", m.splits_interlayer},
-      {"pieces", m.pieces},
-      {"torn_edge_length", m.torn_edge_length},
-      {"edge_roughness", m.edge_roughness},
-      {"peeled_area", m.peeled_area},
-      {"grip_force", m.grip_force},
-      {"indenter_force", m.indenter_force},
-      {"kinetic_energy", m.kinetic_energy},
-      {"elastic_energy", m.elastic_energy},
-      {"intact_blocks", m.intact_blocks},
-  };
+  nlohmann::json out = nlohmann::json::object();
+  visit_metrics(m, [&](const char* key, const auto& value) { out[key] = value; });
+  return out;
 }
 
 nlohmann::json scene_to_json(const Scene& scene) {
