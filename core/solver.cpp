@@ -36,9 +36,9 @@ bool sync_fine_springs(const World& w, SolverScratch& scratch) {
                            w.nodes.count - scratch.fine_nodes == w.events.size() - scratch.fine_events;
   const bool changed = !incremental || w.nodes.count != scratch.fine_nodes;
   if (!incremental) {
-    prepare_fine_springs(w.topo, w.springs, scratch.fine);
+    const FineSpringsBuild build = prepare_fine_springs(w.topo, w.springs, scratch.fine);
     parallel_chunks(cells, kCellChunk, [&](std::size_t b, std::size_t e, std::size_t) {
-      assign_fine_springs(b, e, w.topo, w.springs, scratch.fine);
+      assign_fine_springs(b, e, w.topo, w.springs, build, scratch.fine);
     });
   } else {
     for (std::size_t e = scratch.fine_events; e < w.events.size(); ++e)

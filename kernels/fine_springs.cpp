@@ -81,11 +81,11 @@ std::uint8_t whole_sheet_count(const LatticeDims& d, const std::array<int, 3>& i
   return std::uint8_t(count);
 }
 
-bool corners_whole(const Topology& topo, const FineSprings& out, std::uint32_t c) {
+bool corners_whole(const Topology& topo, const FineSpringsBuild& build, std::uint32_t c) {
   const LatticeDims& d = topo.dims;
   const auto ijk = d.cell_ijk(c);
   for (int q = 0; q < kCornersPerCell; ++q)
-    if (!out.whole_vertex[d.vertex_index(ijk[0] + corner_bit(q, 0), ijk[1] + corner_bit(q, 1), ijk[2] + corner_bit(q, 2))])
+    if (!build.whole_vertex[d.vertex_index(ijk[0] + corner_bit(q, 0), ijk[1] + corner_bit(q, 1), ijk[2] + corner_bit(q, 2))])
       return false;
   return true;
 }
@@ -120,32 +120,34 @@ bool uniform_springs(const Topology& topo, const SpringTable& table) {
 
 }  // namespace
 
-void prepare_fine_springs(const Topology& topo, const SpringTable& table, FineSprings& out) {
+FineSpringsBuild prepare_fine_springs(const Topology& topo, const SpringTable& table, FineSprings& out) {
   const LatticeDims& d = topo.dims;
   out.cells = std::size_t(d.cells());
   out.count.resize(kSpringsPerCell * out.cells + 32);
   std::memset(out.count.data(), 0, out.count.size());
   out.owned.assign(out.cells + 32, 0);
   // A vertex is whole while every cell around it still uses the vertex's own node.
-  out.whole_vertex.assign(std::size_t(d.vertices()), uniform_springs(topo, table) ? 1 : 0);
+  FineSpringsBuild build;
+  build.whole_vertex.assign(std::size_t(d.vertices()), uniform_springs(topo, table) ? 1 : 0);
   for (std::uint32_t c = 0; c < out.cells; ++c) {
     const auto ijk = d.cell_ijk(c);
     for (int q = 0; q < kCornersPerCell; ++q) {
       const std::uint32_t v = d.vertex_index(ijk[0] + corner_bit(q, 0), ijk[1] + corner_bit(q, 1), ijk[2] + corner_bit(q, 2));
-      if (topo.node(c, q) != v) out.whole_vertex[v] = 0;
+      if (topo.node(c, q) != v) build.whole_vertex[v] = 0;
     }
   }
+  return build;
 }
 
 void assign_fine_springs(std::size_t begin, std::size_t end, const Topology& topo, const SpringTable& table,
-                         FineSprings& out) {
+                         const FineSpringsBuild& build, FineSprings& out) {
   for (std::size_t c = begin; c < end; ++c)
-    assign_cell(topo, table, std::uint32_t(c), corners_whole(topo, out, std::uint32_t(c)), out);
+    assign_cell(topo, table, std::uint32_t(c), corners_whole(topo, build, std::uint32_t(c)), out);
 }
 
 void build_fine_springs(const Topology& topo, const SpringTable& table, FineSprings& out) {
-  prepare_fine_springs(topo, table, out);
-  assign_fine_springs(0, out.cells, topo, table, out);
+  const FineSpringsBuild build = prepare_fine_springs(topo, table, out);
+  assign_fine_springs(0, out.cells, topo, table, build, out);
 }
 
 void update_fine_springs_at(const Topology& topo, const SpringTable& table, std::uint32_t vertex, FineSprings& out) {

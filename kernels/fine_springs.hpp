@@ -55,19 +55,23 @@ struct FineSprings {
   // original node (node id = vertex id). 32 entries of padding (0) at the end, for vector
   // loads.
   std::vector<std::uint32_t> owned;
-  // Per lattice vertex, while building: 1 when no node there has been split (and springs
-  // and stiffness factors are uniform), so the cells around it need no node comparisons.
-  std::vector<std::uint8_t> whole_vertex;
 
   std::uint8_t at(std::size_t cell, int slot) const { return count[std::size_t(slot) * cells + cell]; }
+};
+
+// What a build needs besides the table, per lattice vertex: 1 when no node there has been
+// split (and springs and stiffness factors are uniform), so the cells around it need no node
+// comparisons. Valid for the topology it was prepared from only.
+struct FineSpringsBuild {
+  std::vector<std::uint8_t> whole_vertex;
 };
 
 // Ownership and counts of every cell's slots, from the current topology: prepare, then
 // assign every cell (assign_fine_springs may run on disjoint cell ranges in parallel).
 void build_fine_springs(const Topology& topo, const SpringTable& table, FineSprings& out);
-void prepare_fine_springs(const Topology& topo, const SpringTable& table, FineSprings& out);
+FineSpringsBuild prepare_fine_springs(const Topology& topo, const SpringTable& table, FineSprings& out);
 void assign_fine_springs(std::size_t begin, std::size_t end, const Topology& topo, const SpringTable& table,
-                         FineSprings& out);
+                         const FineSpringsBuild& build, FineSprings& out);
 // The same for the cells around lattice vertex `vertex` only: enough after a node there
 // was split, since every spring whose coincidence the split can change ends at that vertex.
 void update_fine_springs_at(const Topology& topo, const SpringTable& table, std::uint32_t vertex, FineSprings& out);
