@@ -2,8 +2,12 @@
 //  * fracture/quiet/<size>: the slowly pulled sheet of the step cases, where detection finds
 //    nothing: the pass's cost on most steps of a run, to compare with the step time;
 //  * fracture/tearing/30x20x3: a small sheet pulled fast (the fracture tests' scene), timed
-//    from its first split on, so detection finds candidates and splits happen while it runs.
-// Each iteration advances the world one RK4 step untimed, then times the pass.
+//    from its first split on, so detection finds candidates and splits happen while it runs;
+//  * fracture/default/90x90x5: the default scene (the paper's experiment) while it tears
+//    fastest, steps kTearFrom + 1 .. kTearFrom + kTearSteps (~20 splits per step): the
+//    pass's share of the step in issue 5's sense.
+// Each iteration of the first two advances the world one RK4 step untimed, then times the
+// pass.
 #include <oneapi/tbb/task_arena.h>
 
 #include "bench_cases.hpp"
@@ -16,6 +20,10 @@ namespace {
 
 constexpr int kWarmupSteps = 10;
 constexpr int kMaxStepsToFirstSplit = 6000;
+// The default scene tears between steps ~360 and ~800, fastest around 600.
+constexpr int kTearFrom = 560;
+constexpr int kTearSteps = 40;
+constexpr int kTearIterations = 3;
 
 Scene tearing_scene() {
   Scene s;
@@ -63,6 +71,49 @@ void fracture_tearing(benchmark::State& state, int threads) {
   time_fracture_passes(state, sim.world(), threads);
 }
 
+// The default scene at step kTearFrom, made once per process (a few seconds).
+const World& tearing_default_scene() {
+  static const World world = [] {
+    Simulation sim(Scene{}, {.threads = 2});
+    sim.step(kTearFrom);
+    return sim.world();
+  }();
+  return world;
+}
+
+// Each iteration copies the saved world and runs its next kTearSteps steps, timing the RK4
+// step and the fracture pass apart; the time reported is the fracture pass's per step.
+// (One untimed step first: a copied world's solver tables are built on its first step.)
+// A fixed number of iterations: the reported time is a small part of each iteration's.
+void fracture_default(benchmark::State& state, int threads) {
+  tbb::task_arena arena(threads);
+  double step_seconds = 0.0, fracture_seconds = 0.0;
+  std::size_t splits = 0;
+  for (auto _ : state) {
+    World world = tearing_default_scene();
+    SolverScratch solver;
+    FractureScratch fracture;
+    auto advance = [&](double* step_time, double* fracture_time) {
+      const double s = timed([&] { arena.execute([&] { integrate_step(world, solver); }); });
+      std::size_t n = 0;
+      const double f = timed([&] { arena.execute([&] { n = fracture_pass(world, fracture); }); });
+      ++world.step;
+      if (step_time) *step_time += s;
+      if (fracture_time) *fracture_time += f;
+      return n;
+    };
+    advance(nullptr, nullptr);
+    double s = 0.0, f = 0.0;
+    for (int i = 0; i < kTearSteps; ++i) splits += advance(&s, &f);
+    state.SetIterationTime(f / kTearSteps);
+    step_seconds += s;
+    fracture_seconds += f;
+  }
+  const double steps = double(state.iterations()) * kTearSteps;
+  state.counters["splits_per_step"] = steps > 0 ? double(splits) / steps : 0.0;
+  state.counters["share_of_step"] = step_seconds > 0 ? fracture_seconds / step_seconds : 0.0;
+}
+
 }  // namespace
 
 void register_fracture_benchmarks() {
@@ -75,6 +126,11 @@ void register_fracture_benchmarks() {
     const std::string name = "fracture/tearing/30x20x3/threads:" + std::to_string(threads);
     benchmark::RegisterBenchmark(name.c_str(), fracture_tearing, threads)
         ->UseManualTime()
+        ->Unit(benchmark::kMicrosecond);
+    const std::string during = "fracture/default/90x90x5/threads:" + std::to_string(threads);
+    benchmark::RegisterBenchmark(during.c_str(), fracture_default, threads)
+        ->UseManualTime()
+        ->Iterations(kTearIterations)
         ->Unit(benchmark::kMicrosecond);
   }
 }

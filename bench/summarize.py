@@ -1,7 +1,9 @@
 #!/usr/bin/env python3
 """Turns papertear_bench's JSON (with repetitions) into the Markdown and JSON tables of
 bench/README.md: medians per case, then the ratios papertear vs reference, 2 threads vs 1,
-fracture pass vs step, and measured vs the machine floor from the probe cases.
+fracture pass vs step (on the quiet sheet, and while the default scene tears: the
+fracture/default case's share_of_step counter), and measured vs the machine floor from the
+probe cases.
 
 The floor of one RK4 step is the larger of (both are also reported on their own)
   compute: evaluated_springs * 4 stages / (sqrt+div pairs per second), and
@@ -26,7 +28,7 @@ def load_medians(path):
     for b in data["benchmarks"]:
         if b.get("aggregate_name", "median") != "median" or b.get("error_occurred"):
             continue
-        name = b["run_name"].replace("/manual_time", "")
+        name = re.sub(r"/iterations:\d+", "", b["run_name"].replace("/manual_time", ""))
         scale = {"ns": 1e-9, "us": 1e-6, "ms": 1e-3, "s": 1.0}[b["time_unit"]]
         counters = {k: v for k, v in b.items() if isinstance(v, (int, float)) and k not in (
             "real_time", "cpu_time", "iterations", "repetitions", "repetition_index", "threads",
@@ -88,6 +90,11 @@ def growth_and_render(cases):
             big = counter(f"step/papertear/{size}/threads:{t}", "ns_per_cell_step")
             if base and big:
                 out.append((f"ns per cell-step {size} / 90x90x5, {t} threads", big / base, "growth"))
+    for t in (1, 2):
+        share = counter(f"fracture/default/90x90x5/threads:{t}", "share_of_step")
+        if share is not None:
+            out.append((f"fracture pass / RK4 step while the default scene tears (90x90x5), {t} threads",
+                        share, "share"))
     for state in ("intact", "torn"):
         one = cases.get(f"render/frame/{state}/90x90x5/threads:1", {}).get("seconds")
         two = cases.get(f"render/frame/{state}/90x90x5/threads:2", {}).get("seconds")
