@@ -154,19 +154,61 @@ struct PacketRays {
   int count = 0;
 };
 
-// The surfaces are split into two Embree scenes: opaque triangles and peeled skins. A ray
-// finds its nearest opaque surface once, in the big scene, and walks the few skins in front
-// of it in the small one; a shadow ray asks the big scene only whether anything opaque is in
-// the way (an any-hit query, which stops at the first hit) and walks the skins only if not.
-enum Layer : unsigned { kOpaque = 0, kSkins = 1 };
+// The surfaces are split into Embree scenes: opaque triangles and peeled skins. A ray finds
+// its nearest opaque surface once, in the big scene, and gathers the few skins in front of
+// it in a small one; a shadow ray asks the big scene only whether anything opaque is in the
+// way (an any-hit query, which stops at the first hit) and gathers the skins only if not.
+//
+// Each scene holds only the triangles its rays can need:
+// - Skins count only where a ray enters them (gather_entering), so there are two skin
+//   scenes: one for primary rays with the skin triangles facing the eye (for rays from one
+//   point the test per triangle is exact), one for shadow rays with those turned away from
+//   some point of the light's disc. The same hits as with all skin triangles.
+// - A fibre tooth is a closed pyramid on its torn face: a ray from outside meets one of its
+//   sides facing it first, and a shadow ray through it leaves through a side turned towards
+//   the light. Fibre sides turned away from the eye and from every point of the light's disc
+//   are left out of the opaque scene (one scene for both kinds of rays: two, each with only
+//   its own sides, trace no faster and take twice as long to build). The sheet's faces all
+//   stay: where an opaque cell is joined to a peeled skin no face is drawn between them, and
+//   a ray through the skin may see the inside of the opaque surface.
+// About a third of the fibre sides (the bulk of a torn frame's triangles) and half of the
+// skin triangles drop out of each scene, and with them many of the overlapping slivers that
+// make fringes slow to trace.
+enum SceneId : unsigned { kOpaque = 0, kSkinsView = 1, kSkinsLight = 2 };
+constexpr unsigned kScenes = 3;
 constexpr float kFar = std::numeric_limits<float>::infinity();
+
+// An axis-aligned box, empty unless set. Rays that cannot meet a skin scene's box are left
+// out of its query, and a query with none left is not made (most packets, away from the
+// peeled skins): the same hits without Embree's cost per call.
+struct Box {
+  Vec3 lo{kFar, kFar, kFar}, hi{-kFar, -kFar, -kFar};
+  // Whether the ray o + t d, 0 <= t <= tfar, may meet the box (slab test; an axis the ray
+  // runs parallel to only asks whether o lies between the slab's planes).
+  bool crossed(const Vec3& o, const Vec3& d, float tfar) const {
+    float t0 = 0.0f, t1 = tfar;
+    for (int k = 0; k < 3; ++k) {
+      if (d[k] == 0.0f) {
+        if (o[k] < lo[k] || o[k] > hi[k]) return false;
+        continue;
+      }
+      const float inv = 1.0f / d[k];
+      float a = (lo[k] - o[k]) * inv, b = (hi[k] - o[k]) * inv;
+      if (a > b) std::swap(a, b);
+      t0 = std::max(t0, a);
+      t1 = std::min(t1, b);
+    }
+    return t0 <= t1;
+  }
+};
 
 // Everything a tile needs to trace one frame; read-only while tracing.
 class FrameTracer {
  public:
-  FrameTracer(RTCDevice device, const SurfaceMesh& mesh, const Look& look, const Texture& texture)
-      : mesh_(mesh), look_(look), texture_(texture), scenes_{EmbreeScene(device), EmbreeScene(device)} {
-    build(device);
+  FrameTracer(RTCDevice device, const SurfaceMesh& mesh, const Look& look, const Texture& texture, const Vec3& eye)
+      : mesh_(mesh), look_(look), texture_(texture),
+        scenes_{EmbreeScene(device), EmbreeScene(device), EmbreeScene(device)} {
+    build(device, eye);
   }
 
   // A surface point's shading up to the shadow ray: colour = albedo * (intensity *
@@ -202,11 +244,11 @@ class FrameTracer {
     for (int i = 0; i < rays.count; ++i) nearest.add(i, origin, rays.dir[std::size_t(i)], 0.0f, kFar);
     nearest.intersect(scenes_[kOpaque].scene, RTC_INTERSECT_CONTEXT_FLAG_COHERENT);
     SkinHits skins;  // in front of each ray's opaque surface
-    if (has_skins_) {
-      Packet skin;
-      for (int i = 0; i < rays.count; ++i) skin.add(i, origin, rays.dir[std::size_t(i)], 0.0f, nearest.rh.ray.tfar[i]);
-      skin.occluded(scenes_[kSkins].scene, skins.ctx);
-    }
+    Packet skin;
+    for (int i = 0; i < rays.count; ++i)
+      if (skin_bounds_[kSkinsView].crossed(origin, rays.dir[std::size_t(i)], nearest.rh.ray.tfar[i]))
+        skin.add(i, origin, rays.dir[std::size_t(i)], 0.0f, nearest.rh.ray.tfar[i]);
+    if (skin.any) skin.occluded(scenes_[kSkinsView].scene, skins.ctx);
     Surfaces seen;
     for (int i = 0; i < rays.count; ++i) {
       out[i] = Vec3::Zero();
@@ -384,13 +426,14 @@ class FrameTracer {
       if (!p.valid[i]) continue;
       if (p.rh.ray.tfar[i] < 0.0f)
         visible[std::size_t(surface[std::size_t(i)])] = 0.0f;
-      else if (has_skins_)
+      else if (skin_bounds_[kSkinsLight].crossed(seen.at[std::size_t(surface[std::size_t(i)])].shading.shadow_from,
+                                            seen.at[std::size_t(surface[std::size_t(i)])].shading.to_light, kFar))
         skin.add(i, seen.at[std::size_t(surface[std::size_t(i)])].shading.shadow_from,
                  seen.at[std::size_t(surface[std::size_t(i)])].shading.to_light, 0.0f, kFar);
     }
     if (!skin.any) return;
     SkinHits hits;
-    skin.occluded(scenes_[kSkins].scene, hits.ctx);
+    skin.occluded(scenes_[kSkinsLight].scene, hits.ctx);
     for (int i = 0; i < kPacket; ++i)
       if (skin.valid[i]) visible[std::size_t(surface[std::size_t(i)])] = through_skins(hits, i);
   }
@@ -421,11 +464,10 @@ class FrameTracer {
     r.id[i] = unsigned(i);  // the lane, for filters called on single rays
   }
 
-  void build(RTCDevice device) {
-    const std::array<std::vector<std::uint32_t>, 2> tris = sort_triangles();
+  void build(RTCDevice device, const Vec3& eye) {
+    const std::array<std::vector<std::uint32_t>, kScenes> tris = sort_triangles(eye);
     copy_vertices();
-    has_skins_ = !tris[kSkins].empty();
-    for (Layer g : {kOpaque, kSkins}) {
+    for (unsigned g = 0; g < kScenes; ++g) {
       quads_[g] = pair_triangles(mesh_, tris[g]);
       attach(device, g);
       // Robust: no shortcuts that let rays slip between triangles sharing an edge.
@@ -433,28 +475,52 @@ class FrameTracer {
       rtcSetSceneBuildQuality(scenes_[g].scene, RTC_BUILD_QUALITY_MEDIUM);
       rtcCommitScene(scenes_[g].scene);
     }
+    for (SceneId g : {kSkinsView, kSkinsLight})
+      if (!quads_[g].empty()) {
+        RTCBounds b;
+        rtcGetSceneBounds(scenes_[g].scene, &b);
+        skin_bounds_[g] = {{b.lower_x - eps_, b.lower_y - eps_, b.lower_z - eps_}, {b.upper_x + eps_, b.upper_y + eps_, b.upper_z + eps_}};
+      }
     check_device(device, "building the scene");
   }
 
-  // Each triangle's unit normal; the triangles of scene kOpaque and of kSkins, ascending.
-  // In parallel over fixed chunks, the lists joined in chunk order.
-  std::array<std::vector<std::uint32_t>, 2> sort_triangles() {
+  // Each triangle's unit normal; the triangles of each scene (SceneId), ascending. In
+  // parallel over fixed chunks, the lists joined in chunk order.
+  std::array<std::vector<std::uint32_t>, kScenes> sort_triangles(const Vec3& eye) {
     constexpr std::size_t kChunk = 16384;
+    // Margins keep triangles seen (nearly) edge-on in both scenes. A shadow ray's direction
+    // lies within `softness` of the light's centre, so n . d differs from n . to_light by
+    // at most that.
+    constexpr float kEdgeOn = 1e-3f;
+    const float light_margin = look_.softness + kEdgeOn;
     const std::size_t nt = mesh_.triangle_count();
     tri_normal_.resize(nt);
-    std::vector<std::array<std::vector<std::uint32_t>, 2>> parts(chunk_count(nt, kChunk));
+    std::vector<std::array<std::vector<std::uint32_t>, kScenes>> parts(chunk_count(nt, kChunk));
     parallel_chunks(nt, kChunk, [&](std::size_t begin, std::size_t end, std::size_t c) {
       for (auto t = std::uint32_t(begin); t < end; ++t) {
         const auto& v = mesh_.triangles[t];
         const Vec3 a = vec(mesh_.position[v[0]]), b = vec(mesh_.position[v[1]]), d = vec(mesh_.position[v[2]]);
         const Vec3 n = (b - a).cross(d - a);
         const float len = n.norm();
-        tri_normal_[t] = len > 0.0f ? Vec3(n / len) : Vec3(0, 0, 1);
-        parts[c][mesh_.opacity[t] < 1.0f ? kSkins : kOpaque].push_back(t);
+        const bool flat = !(len > 0.0f);
+        tri_normal_[t] = flat ? Vec3(0, 0, 1) : Vec3(n / len);
+        const Vec3 from_eye = a - eye;
+        // n . (a - eye) has one sign for all rays from the eye to the triangle's plane.
+        const bool faces_eye = flat || tri_normal_[t].dot(from_eye) <= kEdgeOn * from_eye.norm();
+        const float towards_light = tri_normal_[t].dot(look_.to_light);
+        auto& part = parts[c];
+        if (mesh_.opacity[t] < 1.0f) {
+          // A shadow ray enters a skin where n . d < 0.
+          if (faces_eye) part[kSkinsView].push_back(t);
+          if (flat || towards_light <= light_margin) part[kSkinsLight].push_back(t);
+        } else if (mesh_.material[t] != Material::Fibre || faces_eye || flat || towards_light >= -light_margin) {
+          // A shadow ray leaves a fibre tooth through a side with n . d > 0.
+          part[kOpaque].push_back(t);
+        }
       }
     });
-    std::array<std::vector<std::uint32_t>, 2> tris;
-    for (Layer g : {kOpaque, kSkins})
+    std::array<std::vector<std::uint32_t>, kScenes> tris;
+    for (unsigned g = 0; g < kScenes; ++g)
       for (const auto& part : parts) tris[g].insert(tris[g].end(), part[g].begin(), part[g].end());
     return tris;
   }
@@ -480,7 +546,7 @@ class FrameTracer {
   }
 
   // Puts the quads quads_[g] into scene g; its primitive p is quads_[g][p].
-  void attach(RTCDevice device, Layer g) {
+  void attach(RTCDevice device, unsigned g) {
     const std::vector<TracedQuad>& quads = quads_[g];
     if (quads.empty()) return;
     RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_QUAD);
@@ -493,8 +559,9 @@ class FrameTracer {
       for (std::size_t p = begin; p < end; ++p)
         for (std::size_t c = 0; c < 4; ++c) ib[4 * p + c] = quads[p].vertex[c];
     });
-    if (g == kSkins) {
-      rtcSetGeometryUserData(geom, const_cast<FrameTracer*>(this));
+    if (g != kOpaque) {
+      geometry_[g] = {this, &quads_[g]};
+      rtcSetGeometryUserData(geom, &geometry_[g]);
       rtcSetGeometryOccludedFilterFunction(geom, &FrameTracer::gather_entering);
     }
     rtcCommitGeometry(geom);
@@ -505,12 +572,12 @@ class FrameTracer {
   // The point of the mesh of lane i's candidate hit in a filter of the skin scene, and
   // whether the ray enters its triangle.
   static TrianglePoint hit_point(const RTCFilterFunctionNArguments* args, unsigned i) {
-    const auto* self = static_cast<const FrameTracer*>(args->geometryUserPtr);
-    return on_triangle(self->quads_[kSkins][RTCHitN_primID(args->hit, args->N, i)], RTCHitN_u(args->hit, args->N, i),
+    const auto* geometry = static_cast<const GeometryData*>(args->geometryUserPtr);
+    return on_triangle((*geometry->quads)[RTCHitN_primID(args->hit, args->N, i)], RTCHitN_u(args->hit, args->N, i),
                        RTCHitN_v(args->hit, args->N, i));
   }
   static bool hit_entering(const RTCFilterFunctionNArguments* args, unsigned i, std::uint32_t tri) {
-    const auto* self = static_cast<const FrameTracer*>(args->geometryUserPtr);
+    const auto* self = static_cast<const GeometryData*>(args->geometryUserPtr)->tracer;
     const Vec3 dir(RTCRayN_dir_x(args->ray, args->N, i), RTCRayN_dir_y(args->ray, args->N, i),
                    RTCRayN_dir_z(args->ray, args->N, i));
     return self->entering(tri, dir);
@@ -605,9 +672,15 @@ class FrameTracer {
   const Texture& texture_;
   std::vector<float> vertices_;
   std::vector<Vec3> tri_normal_;
-  std::array<std::vector<TracedQuad>, 2> quads_;  // primitives of scene kOpaque and kSkins
-  std::array<EmbreeScene, 2> scenes_;
-  bool has_skins_ = false;
+  std::array<std::vector<TracedQuad>, kScenes> quads_;  // primitives of each scene (SceneId)
+  // What a skin scene's filter is handed: the tracer and that scene's primitives.
+  struct GeometryData {
+    const FrameTracer* tracer;
+    const std::vector<TracedQuad>* quads;
+  };
+  std::array<GeometryData, kScenes> geometry_{};
+  std::array<EmbreeScene, kScenes> scenes_;
+  std::array<Box, kScenes> skin_bounds_{};  // of the skin scenes (kSkinsView, kSkinsLight)
   float eps_ = 1e-4f;
 };
 
@@ -784,8 +857,8 @@ Image Renderer::draw(const World& world, const Camera& camera) const {
 
 Image Renderer::draw(const SurfaceMesh& mesh, const Camera& camera) const {
   const RenderSettings& s = impl_->settings;
-  const FrameTracer tracer(impl_->device, mesh, impl_->look, impl_->texture);
   const PixelSampler sampler(camera, s.width, s.height, s.samples);
+  const FrameTracer tracer(impl_->device, mesh, impl_->look, impl_->texture, sampler.eye());
   const std::size_t pixels = std::size_t(s.width) * std::size_t(s.height);
   // Pass 1: one ray per pixel. Pass 2: the remaining samples where a pixel needs them
   // (refinement()). Both passes read only pass 1's results, so the choice is deterministic.
