@@ -473,8 +473,10 @@ class FrameTracer {
       // Robust: no shortcuts that let rays slip between triangles sharing an edge.
       rtcSetSceneFlags(scenes_[g].scene, RTC_SCENE_FLAG_ROBUST);
       rtcSetSceneBuildQuality(scenes_[g].scene, RTC_BUILD_QUALITY_MEDIUM);
-      rtcCommitScene(scenes_[g].scene);
     }
+    // The builds side by side: each is parallel inside, but the small skin scenes keep few
+    // threads busy. A scene's BVH does not depend on how many threads build it.
+    parallel_chunks(kScenes, 1, [&](std::size_t g, std::size_t, std::size_t) { rtcCommitScene(scenes_[g].scene); });
     for (SceneId g : {kSkinsView, kSkinsLight})
       if (!quads_[g].empty()) {
         RTCBounds b;
