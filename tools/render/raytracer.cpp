@@ -154,6 +154,119 @@ struct PacketRays {
   int count = 0;
 };
 
+// Sub-pixel position of sample s: the R2 sequence (a low-discrepancy rank-1 lattice), shifted
+// per pixel by a hashed offset so neighbouring pixels do not share a pattern. Inline, so that
+// PixelSampler::aim() vectorises.
+[[gnu::always_inline]] inline std::array<float, 2> subpixel(int x, int y, int s) {
+  HashStream rng(hash_key(std::uint64_t(x), std::uint64_t(y), 0x7069786c));
+  const float ox = rng.uniform(), oy = rng.uniform();
+  const float gx = 0.7548776662f * float(s) + ox, gy = 0.5698402910f * float(s) + oy;
+  return {gx - std::floor(gx), gy - std::floor(gy)};
+}
+
+// Pixels x0..x1 by y0..y1 (none by default).
+struct PixelRect {
+  int x0 = 0, y0 = 0, x1 = -1, y1 = -1;
+  bool contains(int x, int y) const { return x >= x0 && x <= x1 && y >= y0 && y <= y1; }
+};
+
+// Primary rays of one frame.
+class PixelSampler {
+ public:
+  PixelSampler(const Camera& c, int width, int height, int samples)
+      : eye_(vec(c.position)), fwd_(vec(c.forward)), right_(vec(c.right)), up_(vec(c.up)),
+        ty_(c.tan_half_fov_y), tx_(c.tan_half_fov_y * c.aspect), width_(width), height_(height), samples_(samples) {}
+
+  const Vec3& eye() const { return eye_; }
+
+  // The direction of sample k of pixel (x, y).
+  Vec3 direction(int x, int y, int k) const {
+    std::array<float, 3> d;
+    if (samples_ == 1)
+      aim_lane<true>(x, y, k, d[0], d[1], d[2]);
+    else
+      aim_lane<false>(x, y, k, d[0], d[1], d[2]);
+    return {d[0], d[1], d[2]};
+  }
+
+  // Adds sample k of pixel (x, y) to a packet; aim() then sets its ray.
+  static void add(PacketRays& rays, int x, int y, int k) {
+    const auto i = std::size_t(rays.count++);
+    rays.x[i] = x;
+    rays.y[i] = y;
+    rays.sample[i] = k;
+  }
+
+  // The directions and keys of a packet's rays.
+  void aim(PacketRays& rays) const {
+    if (samples_ == 1)
+      aim_lanes<true>(rays);
+    else
+      aim_lanes<false>(rays);
+  }
+
+  // The pixels whose rays may meet the box from corner `lo` to corner `hi` (with a margin of
+  // two pixels): where its corners' images fall, or every pixel if one of them is not in
+  // front of the eye. A box is convex, so its image lies within its corners'.
+  PixelRect covering(const Vec3& lo, const Vec3& hi) const {
+    if (!(lo.array() <= hi.array()).all()) return {};
+    const PixelRect all{std::numeric_limits<int>::min(), std::numeric_limits<int>::min(),
+                        std::numeric_limits<int>::max(), std::numeric_limits<int>::max()};
+    constexpr float kInf = std::numeric_limits<float>::infinity();
+    float left = kInf, top = kInf, right = -kInf, bottom = -kInf;
+    for (int c = 0; c < 8; ++c) {
+      const Vec3 d = Vec3(c & 1 ? hi.x() : lo.x(), c & 2 ? hi.y() : lo.y(), c & 4 ? hi.z() : lo.z()) - eye_;
+      const float depth = d.dot(fwd_);
+      if (!(depth > 1e-3f * d.norm())) return all;
+      // The ray through (x, y) points along fwd + ndc_x right + ndc_y up (aim_lane).
+      const float x = 0.5f * float(width_) * (d.dot(right_) / (depth * tx_) + 1.0f);
+      const float y = 0.5f * float(height_) * (1.0f - d.dot(up_) / (depth * ty_));
+      left = std::min(left, x);
+      right = std::max(right, x);
+      top = std::min(top, y);
+      bottom = std::max(bottom, y);
+    }
+    const auto pixel = [](float v, int size) { return int(std::floor(std::clamp(v, -4.0f, float(size) + 4.0f))); };
+    return {pixel(left, width_) - 2, pixel(top, height_) - 2, pixel(right, width_) + 2, pixel(bottom, height_) + 2};
+  }
+
+ private:
+  // All kPacket lanes, in plain arrays: a fixed-length loop over one lane's branch-free
+  // scalar code is what the compiler turns into vector code (hashes, divisions and square
+  // roots 16 at a time instead of one after another). Whether rays go through the pixel
+  // centres is a template parameter, not a branch in the loop, for the same reason.
+  template <bool kCentred>
+  void aim_lanes(PacketRays& rays) const {
+    alignas(64) std::array<float, kPacket> dx, dy, dz;
+    for (std::size_t i = 0; i < kPacket; ++i) {
+      aim_lane<kCentred>(rays.x[i], rays.y[i], rays.sample[i], dx[i], dy[i], dz[i]);
+      rays.key[i] = hash_key(std::uint64_t(rays.x[i]), std::uint64_t(rays.y[i]), std::uint64_t(rays.sample[i]));
+    }
+    for (std::size_t i = 0; i < std::size_t(rays.count); ++i) rays.dir[i] = {dx[i], dy[i], dz[i]};
+  }
+
+  // The unit direction of sample k of pixel (x, y), in the same operations and order as
+  // Eigen's (fwd + nx right + ny up).normalized().
+  template <bool kCentred>
+  [[gnu::always_inline]] void aim_lane(int x, int y, int k, float& dx, float& dy, float& dz) const {
+    const auto off = kCentred ? std::array<float, 2>{0.5f, 0.5f} : subpixel(x, y, k);
+    const float ndc_x = (2.0f * (float(x) + off[0]) / float(width_) - 1.0f) * tx_;
+    const float ndc_y = (1.0f - 2.0f * (float(y) + off[1]) / float(height_)) * ty_;
+    dx = fwd_[0] + ndc_x * right_[0] + ndc_y * up_[0];
+    dy = fwd_[1] + ndc_x * right_[1] + ndc_y * up_[1];
+    dz = fwd_[2] + ndc_x * right_[2] + ndc_y * up_[2];
+    const float len = std::sqrt(dx * dx + dy * dy + dz * dz);
+    dx /= len;
+    dy /= len;
+    dz /= len;
+  }
+
+ private:
+  Vec3 eye_, fwd_, right_, up_;
+  float ty_, tx_;
+  int width_, height_, samples_;
+};
+
 // The surfaces are split into Embree scenes: opaque triangles and peeled skins. A ray finds
 // its nearest opaque surface once, in the big scene, and gathers the few skins in front of
 // it in a small one; a shadow ray asks the big scene only whether anything opaque is in the
@@ -178,37 +291,24 @@ enum SceneId : unsigned { kOpaque = 0, kSkinsView = 1, kSkinsLight = 2 };
 constexpr unsigned kScenes = 3;
 constexpr float kFar = std::numeric_limits<float>::infinity();
 
-// An axis-aligned box, empty unless set. Rays that cannot meet a skin scene's box are left
-// out of its query, and a query with none left is not made (most packets, away from the
-// peeled skins): the same hits without Embree's cost per call.
-struct Box {
-  Vec3 lo{kFar, kFar, kFar}, hi{-kFar, -kFar, -kFar};
-  // Whether the ray o + t d, 0 <= t <= tfar, may meet the box (slab test; an axis the ray
-  // runs parallel to only asks whether o lies between the slab's planes).
-  bool crossed(const Vec3& o, const Vec3& d, float tfar) const {
-    float t0 = 0.0f, t1 = tfar;
-    for (int k = 0; k < 3; ++k) {
-      if (d[k] == 0.0f) {
-        if (o[k] < lo[k] || o[k] > hi[k]) return false;
-        continue;
-      }
-      const float inv = 1.0f / d[k];
-      float a = (lo[k] - o[k]) * inv, b = (hi[k] - o[k]) * inv;
-      if (a > b) std::swap(a, b);
-      t0 = std::max(t0, a);
-      t1 = std::min(t1, b);
-    }
-    return t0 <= t1;
-  }
-};
 
 // Everything a tile needs to trace one frame; read-only while tracing.
 class FrameTracer {
  public:
-  FrameTracer(RTCDevice device, const SurfaceMesh& mesh, const Look& look, const Texture& texture, const Vec3& eye)
+  FrameTracer(RTCDevice device, const SurfaceMesh& mesh, const Look& look, const Texture& texture,
+              const PixelSampler& sampler)
       : mesh_(mesh), look_(look), texture_(texture),
         scenes_{EmbreeScene(device), EmbreeScene(device), EmbreeScene(device)} {
-    build(device, eye);
+    build(device, sampler.eye());
+    // Rays of pixels whose rays cannot meet the skins facing the eye are left out of the
+    // skin query, and a query with none left is not made (most packets, away from the
+    // peeled skins): the same hits without Embree's cost per call.
+    if (!quads_[kSkinsView].empty()) {
+      RTCBounds b;
+      rtcGetSceneBounds(scenes_[kSkinsView].scene, &b);
+      skin_pixels_ = sampler.covering({b.lower_x - eps_, b.lower_y - eps_, b.lower_z - eps_},
+                                      {b.upper_x + eps_, b.upper_y + eps_, b.upper_z + eps_});
+    }
   }
 
   // A surface point's shading up to the shadow ray: colour = albedo * (intensity *
@@ -246,7 +346,7 @@ class FrameTracer {
     SkinHits skins;  // in front of each ray's opaque surface
     Packet skin;
     for (int i = 0; i < rays.count; ++i)
-      if (skin_bounds_[kSkinsView].crossed(origin, rays.dir[std::size_t(i)], nearest.rh.ray.tfar[i]))
+      if (skin_pixels_.contains(rays.x[std::size_t(i)], rays.y[std::size_t(i)]))
         skin.add(i, origin, rays.dir[std::size_t(i)], 0.0f, nearest.rh.ray.tfar[i]);
     if (skin.any) skin.occluded(scenes_[kSkinsView].scene, skins.ctx);
     Surfaces seen;
@@ -426,8 +526,7 @@ class FrameTracer {
       if (!p.valid[i]) continue;
       if (p.rh.ray.tfar[i] < 0.0f)
         visible[std::size_t(surface[std::size_t(i)])] = 0.0f;
-      else if (skin_bounds_[kSkinsLight].crossed(seen.at[std::size_t(surface[std::size_t(i)])].shading.shadow_from,
-                                            seen.at[std::size_t(surface[std::size_t(i)])].shading.to_light, kFar))
+      else if (!quads_[kSkinsLight].empty())
         skin.add(i, seen.at[std::size_t(surface[std::size_t(i)])].shading.shadow_from,
                  seen.at[std::size_t(surface[std::size_t(i)])].shading.to_light, 0.0f, kFar);
     }
@@ -477,12 +576,6 @@ class FrameTracer {
     // The builds side by side: each is parallel inside, but the small skin scenes keep few
     // threads busy. A scene's BVH does not depend on how many threads build it.
     parallel_chunks(kScenes, 1, [&](std::size_t g, std::size_t, std::size_t) { rtcCommitScene(scenes_[g].scene); });
-    for (SceneId g : {kSkinsView, kSkinsLight})
-      if (!quads_[g].empty()) {
-        RTCBounds b;
-        rtcGetSceneBounds(scenes_[g].scene, &b);
-        skin_bounds_[g] = {{b.lower_x - eps_, b.lower_y - eps_, b.lower_z - eps_}, {b.upper_x + eps_, b.upper_y + eps_, b.upper_z + eps_}};
-      }
     check_device(device, "building the scene");
   }
 
@@ -682,90 +775,8 @@ class FrameTracer {
   };
   std::array<GeometryData, kScenes> geometry_{};
   std::array<EmbreeScene, kScenes> scenes_;
-  std::array<Box, kScenes> skin_bounds_{};  // of the skin scenes (kSkinsView, kSkinsLight)
+  PixelRect skin_pixels_;  // the pixels whose rays may meet a skin facing the eye
   float eps_ = 1e-4f;
-};
-
-// Sub-pixel position of sample s: the R2 sequence (a low-discrepancy rank-1 lattice), shifted
-// per pixel by a hashed offset so neighbouring pixels do not share a pattern. Inline, so that
-// PixelSampler::aim() vectorises.
-[[gnu::always_inline]] inline std::array<float, 2> subpixel(int x, int y, int s) {
-  HashStream rng(hash_key(std::uint64_t(x), std::uint64_t(y), 0x7069786c));
-  const float ox = rng.uniform(), oy = rng.uniform();
-  const float gx = 0.7548776662f * float(s) + ox, gy = 0.5698402910f * float(s) + oy;
-  return {gx - std::floor(gx), gy - std::floor(gy)};
-}
-
-// Primary rays of one frame.
-class PixelSampler {
- public:
-  PixelSampler(const Camera& c, int width, int height, int samples)
-      : eye_(vec(c.position)), fwd_(vec(c.forward)), right_(vec(c.right)), up_(vec(c.up)),
-        ty_(c.tan_half_fov_y), tx_(c.tan_half_fov_y * c.aspect), width_(width), height_(height), samples_(samples) {}
-
-  const Vec3& eye() const { return eye_; }
-
-  // The direction of sample k of pixel (x, y).
-  Vec3 direction(int x, int y, int k) const {
-    std::array<float, 3> d;
-    if (samples_ == 1)
-      aim_lane<true>(x, y, k, d[0], d[1], d[2]);
-    else
-      aim_lane<false>(x, y, k, d[0], d[1], d[2]);
-    return {d[0], d[1], d[2]};
-  }
-
-  // Adds sample k of pixel (x, y) to a packet; aim() then sets its ray.
-  static void add(PacketRays& rays, int x, int y, int k) {
-    const auto i = std::size_t(rays.count++);
-    rays.x[i] = x;
-    rays.y[i] = y;
-    rays.sample[i] = k;
-  }
-
-  // The directions and keys of a packet's rays.
-  void aim(PacketRays& rays) const {
-    if (samples_ == 1)
-      aim_lanes<true>(rays);
-    else
-      aim_lanes<false>(rays);
-  }
-
- private:
-  // All kPacket lanes, in plain arrays: a fixed-length loop over one lane's branch-free
-  // scalar code is what the compiler turns into vector code (hashes, divisions and square
-  // roots 16 at a time instead of one after another). Whether rays go through the pixel
-  // centres is a template parameter, not a branch in the loop, for the same reason.
-  template <bool kCentred>
-  void aim_lanes(PacketRays& rays) const {
-    alignas(64) std::array<float, kPacket> dx, dy, dz;
-    for (std::size_t i = 0; i < kPacket; ++i) {
-      aim_lane<kCentred>(rays.x[i], rays.y[i], rays.sample[i], dx[i], dy[i], dz[i]);
-      rays.key[i] = hash_key(std::uint64_t(rays.x[i]), std::uint64_t(rays.y[i]), std::uint64_t(rays.sample[i]));
-    }
-    for (std::size_t i = 0; i < std::size_t(rays.count); ++i) rays.dir[i] = {dx[i], dy[i], dz[i]};
-  }
-
-  // The unit direction of sample k of pixel (x, y), in the same operations and order as
-  // Eigen's (fwd + nx right + ny up).normalized().
-  template <bool kCentred>
-  [[gnu::always_inline]] void aim_lane(int x, int y, int k, float& dx, float& dy, float& dz) const {
-    const auto off = kCentred ? std::array<float, 2>{0.5f, 0.5f} : subpixel(x, y, k);
-    const float ndc_x = (2.0f * (float(x) + off[0]) / float(width_) - 1.0f) * tx_;
-    const float ndc_y = (1.0f - 2.0f * (float(y) + off[1]) / float(height_)) * ty_;
-    dx = fwd_[0] + ndc_x * right_[0] + ndc_y * up_[0];
-    dy = fwd_[1] + ndc_x * right_[1] + ndc_y * up_[1];
-    dz = fwd_[2] + ndc_x * right_[2] + ndc_y * up_[2];
-    const float len = std::sqrt(dx * dx + dy * dy + dz * dz);
-    dx /= len;
-    dy /= len;
-    dz /= len;
-  }
-
- private:
-  Vec3 eye_, fwd_, right_, up_;
-  float ty_, tx_;
-  int width_, height_, samples_;
 };
 
 std::size_t tile_count(int width, int height) {
@@ -860,7 +871,7 @@ Image Renderer::draw(const World& world, const Camera& camera) const {
 Image Renderer::draw(const SurfaceMesh& mesh, const Camera& camera) const {
   const RenderSettings& s = impl_->settings;
   const PixelSampler sampler(camera, s.width, s.height, s.samples);
-  const FrameTracer tracer(impl_->device, mesh, impl_->look, impl_->texture, sampler.eye());
+  const FrameTracer tracer(impl_->device, mesh, impl_->look, impl_->texture, sampler);
   const std::size_t pixels = std::size_t(s.width) * std::size_t(s.height);
   // Pass 1: one ray per pixel. Pass 2: the remaining samples where a pixel needs them
   // (refinement()). Both passes read only pass 1's results, so the choice is deterministic.
