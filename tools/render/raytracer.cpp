@@ -161,7 +161,10 @@ struct PacketRays {
   HashStream rng(hash_key(std::uint64_t(x), std::uint64_t(y), 0x7069786c));
   const float ox = rng.uniform(), oy = rng.uniform();
   const float gx = 0.7548776662f * float(s) + ox, gy = 0.5698402910f * float(s) + oy;
-  return {gx - std::floor(gx), gy - std::floor(gy)};
+  // gx, gy >= 0, so truncation is floor: the same values, but the loop in aim_lanes()
+  // vectorises, which it does not with std::floor (GCC 12 vectorises floorf only without
+  // -ftrapping-math).
+  return {gx - float(int(gx)), gy - float(int(gy))};
 }
 
 // Pixels x0..x1 by y0..y1 (none by default).
