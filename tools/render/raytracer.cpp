@@ -303,15 +303,16 @@ class FrameTracer {
       : mesh_(mesh), look_(look), texture_(texture),
         scenes_{EmbreeScene(device), EmbreeScene(device), EmbreeScene(device)} {
     build(device, sampler.eye());
-    // Rays of pixels whose rays cannot meet the skins facing the eye are left out of the
-    // skin query, and a query with none left is not made (most packets, away from the
-    // peeled skins): the same hits without Embree's cost per call.
-    if (!quads_[kSkinsView].empty()) {
-      RTCBounds b;
-      rtcGetSceneBounds(scenes_[kSkinsView].scene, &b);
-      skin_pixels_ = sampler.covering({b.lower_x - eps_, b.lower_y - eps_, b.lower_z - eps_},
+    // Primary rays of pixels whose rays cannot meet a scene's bounding box are left out of
+    // its query, and a query with none left is not made (the background around the sheet;
+    // for the skins, most packets): the same hits without Embree's cost per call.
+    for (SceneId g : {kOpaque, kSkinsView})
+      if (!quads_[g].empty()) {
+        RTCBounds b;
+        rtcGetSceneBounds(scenes_[g].scene, &b);
+        pixels_[g] = sampler.covering({b.lower_x - eps_, b.lower_y - eps_, b.lower_z - eps_},
                                       {b.upper_x + eps_, b.upper_y + eps_, b.upper_z + eps_});
-    }
+      }
   }
 
   // A surface point's shading up to the shadow ray: colour = albedo * (intensity *
@@ -343,13 +344,15 @@ class FrameTracer {
   // together afterwards. Which rays share a packet is fixed by the caller, so the result
   // does not depend on the thread count. With `info`, info[i] describes out[i] too.
   void trace_packet(const Vec3& origin, const PacketRays& rays, Vec3* out, SampleInfo* info = nullptr) const {
-    Packet nearest;
-    for (int i = 0; i < rays.count; ++i) nearest.add(i, origin, rays.dir[std::size_t(i)], 0.0f, kFar);
-    nearest.intersect(scenes_[kOpaque].scene, kQueryFlags);
+    Packet nearest;  // lanes left out miss (geomID invalid, tfar = kFar)
+    for (int i = 0; i < rays.count; ++i)
+      if (pixels_[kOpaque].contains(rays.x[std::size_t(i)], rays.y[std::size_t(i)]))
+        nearest.add(i, origin, rays.dir[std::size_t(i)], 0.0f, kFar);
+    if (nearest.any) nearest.intersect(scenes_[kOpaque].scene, kQueryFlags);
     SkinHits skins;  // in front of each ray's opaque surface
     Packet skin;
     for (int i = 0; i < rays.count; ++i)
-      if (skin_pixels_.contains(rays.x[std::size_t(i)], rays.y[std::size_t(i)]))
+      if (pixels_[kSkinsView].contains(rays.x[std::size_t(i)], rays.y[std::size_t(i)]))
         skin.add(i, origin, rays.dir[std::size_t(i)], 0.0f, nearest.rh.ray.tfar[i]);
     if (skin.any) skin.occluded(scenes_[kSkinsView].scene, skins.ctx);
     Surfaces seen;
@@ -788,7 +791,8 @@ class FrameTracer {
   };
   std::array<GeometryData, kScenes> geometry_{};
   std::array<EmbreeScene, kScenes> scenes_;
-  PixelRect skin_pixels_;  // the pixels whose rays may meet a skin facing the eye
+  // Per scene for primary rays (kOpaque, kSkinsView): the pixels whose rays may meet it.
+  std::array<PixelRect, kScenes> pixels_{};
   float eps_ = 1e-4f;
 };
 
