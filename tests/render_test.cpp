@@ -382,6 +382,41 @@ TEST_CASE("the gap of a torn sheet shows the background", "[render]") {
   CHECK_FALSE(near_bg(frame.pixel(90, 40)));
 }
 
+TEST_CASE("frayed fibres are drawn whichever side the camera looks from", "[render]") {
+  // The ray tracer leaves fibre sides turned away from both the eye and the light out of
+  // its scenes: from below the sheet other sides must show. A gap one cell wide, seen
+  // straight down and straight up: the fibres reaching into it cover background pixels.
+  const int nx = 20, ny = 10, nl = 3;
+  const float gap = 1.0f;
+  const World w = torn_sheet(nx, ny, nl, gap);
+  const double gap_centre = nx / 2 + gap / 2;
+  auto background_pixels = [&](bool fray, double z) {
+    RenderSettings s = small_frame(160, 96);
+    s.samples = 1;
+    s.fray = fray;
+    s.background = {0.2, 0.6, 0.3};
+    s.camera.position = Vec3d{gap_centre, ny / 2.0, z};
+    s.camera.target = Vec3d{gap_centre, ny / 2.0, nl / 2.0};
+    s.camera.up = {0.0, 1.0, 0.0};
+    s.camera.fov = 12.0;
+    Renderer renderer(s);
+    const Image frame = renderer.draw(w, renderer.camera_for(w));
+    int count = 0;
+    for (int y = 0; y < frame.height; ++y)
+      for (int x = 0; x < frame.width; ++x) {
+        const std::uint8_t* p = frame.pixel(x, y);
+        count += std::abs(int(p[0]) - 51) <= 2 && std::abs(int(p[1]) - 153) <= 2 && std::abs(int(p[2]) - 77) <= 2;
+      }
+    return count;
+  };
+  for (double z : {60.0, -57.0}) {
+    INFO("camera at z = " << z);
+    const int bare = background_pixels(false, z), frayed = background_pixels(true, z);
+    CHECK(bare > 0);
+    CHECK(frayed < bare - 100);
+  }
+}
+
 TEST_CASE("the same state renders to the same bytes", "[render]") {
   World w = torn_sheet(16, 10, 3, 1.0f);
   // Lift a corner of the top layer so that translucency and shadows are exercised too.
@@ -399,7 +434,7 @@ TEST_CASE("the same state renders to the same bytes", "[render]") {
   Renderer again(small_frame(128, 80));
   CHECK(encode_png(again.draw(w, cam)) == a);
   // Tiles are shared out differently on other thread counts; the pixels are not.
-  for (int threads : {1, 2}) {
+  for (int threads : {1, 2, 3}) {
     std::vector<std::uint8_t> c;
     tbb::task_arena(threads).execute([&] { c = encode_png(renderer.draw(w, cam)); });
     INFO(threads << " threads");

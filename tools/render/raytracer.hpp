@@ -1,8 +1,9 @@
 // Ray-traced frames of the display mesh (Embree 3).
 //
 // One frame: the world's surface mesh (surface.hpp: print, paper, fibres, peeled skins) goes
-// into two fresh Embree scenes, opaque surfaces and peeled skins, their triangles paired
-// into quads (quads.hpp); the image is cut into 32 x 32 pixel tiles that are traced in
+// into three fresh Embree scenes, opaque surfaces, peeled skins facing the eye and skins for
+// shadow rays (each without the triangles its rays cannot need: raytracer.cpp), their
+// triangles paired into quads (quads.hpp); the image is cut into 32 x 32 pixel tiles that are traced in
 // parallel (kernels/parallel.hpp: TBB, fixed chunks). Within a tile, rays go to Embree as
 // packets of 16 (4 x 4 pixel blocks): one query finds their nearest opaque surfaces, one
 // gathers the skins in front of them, and the shadow rays of all surfaces seen go out 16 at
