@@ -1,6 +1,7 @@
 // What every benchmark case shares: the sheet sizes and thread counts swept, the scene they
-// run, the case names and the counters. The cases themselves live in step_bench.cpp (a
-// whole RK4 step) and force_bench.cpp (the fine-spring kernel alone).
+// run, the case names, their registration and the counters. The cases themselves live in
+// step_bench.cpp (a whole RK4 step), force_bench.cpp (the fine-spring kernel alone),
+// fracture_bench.cpp, render_bench.cpp and probe_bench.cpp (the machine's ceilings).
 #pragma once
 #include <array>
 #include <chrono>
@@ -36,6 +37,14 @@ std::string case_name(const char* family, const char* impl, const Case& c);
 // A pulled sheet whose grips move slowly enough that no bond opens while a benchmark runs,
 // so every timed step does the same work.
 Scene quiet_pull_scene(const Size& size);
+
+// Registers a case that times itself (UseManualTime: the wall clock around its work only),
+// reported in `unit`; `args` follow the state in each call of `fn`.
+template <class Fn, class... Args>
+benchmark::internal::Benchmark* register_timed(const std::string& name, benchmark::TimeUnit unit, Fn fn,
+                                               Args... args) {
+  return benchmark::RegisterBenchmark(name.c_str(), fn, args...)->UseManualTime()->Unit(unit);
+}
 
 // Times one call of `body` for UseManualTime benchmarks and returns the seconds it took.
 template <class Body>

@@ -61,9 +61,7 @@ void force_papertear(benchmark::State& state, Case c) {
 
 void register_force_benchmarks() {
   for (const Case& c : papertear_cases()) {
-    benchmark::RegisterBenchmark(case_name("force", "papertear", c).c_str(), force_papertear, c)
-        ->UseManualTime()
-        ->Unit(benchmark::kMicrosecond);
+    register_timed(case_name("force", "papertear", c), benchmark::kMicrosecond, force_papertear, c);
   }
 }
 

@@ -118,20 +118,13 @@ void fracture_default(benchmark::State& state, int threads) {
 
 void register_fracture_benchmarks() {
   for (const Case& c : papertear_cases()) {
-    benchmark::RegisterBenchmark(case_name("fracture", "quiet", c).c_str(), fracture_quiet, c)
-        ->UseManualTime()
-        ->Unit(benchmark::kMicrosecond);
+    register_timed(case_name("fracture", "quiet", c), benchmark::kMicrosecond, fracture_quiet, c);
   }
   for (int threads : {1, 2}) {
     const std::string name = "fracture/tearing/30x20x3/threads:" + std::to_string(threads);
-    benchmark::RegisterBenchmark(name.c_str(), fracture_tearing, threads)
-        ->UseManualTime()
-        ->Unit(benchmark::kMicrosecond);
+    register_timed(name, benchmark::kMicrosecond, fracture_tearing, threads);
     const std::string during = "fracture/default/90x90x5/threads:" + std::to_string(threads);
-    benchmark::RegisterBenchmark(during.c_str(), fracture_default, threads)
-        ->UseManualTime()
-        ->Iterations(kTearIterations)
-        ->Unit(benchmark::kMicrosecond);
+    register_timed(during, benchmark::kMicrosecond, fracture_default, threads)->Iterations(kTearIterations);
   }
 }
 

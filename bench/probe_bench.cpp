@@ -108,9 +108,9 @@ void probe_sqrt_div(benchmark::State& state, int threads) {
 void register_probe_benchmarks() {
   for (int threads : {1, 2}) {
     const std::string suffix = "/threads:" + std::to_string(threads);
-    benchmark::RegisterBenchmark(("probe/triad" + suffix).c_str(), probe_triad, threads)->UseManualTime()->Unit(benchmark::kMillisecond);
-    benchmark::RegisterBenchmark(("probe/fma" + suffix).c_str(), probe_fma, threads)->UseManualTime()->Unit(benchmark::kMicrosecond);
-    benchmark::RegisterBenchmark(("probe/sqrt_div" + suffix).c_str(), probe_sqrt_div, threads)->UseManualTime()->Unit(benchmark::kMicrosecond);
+    register_timed("probe/triad" + suffix, benchmark::kMillisecond, probe_triad, threads);
+    register_timed("probe/fma" + suffix, benchmark::kMicrosecond, probe_fma, threads);
+    register_timed("probe/sqrt_div" + suffix, benchmark::kMicrosecond, probe_sqrt_div, threads);
   }
 }
 

@@ -69,12 +69,8 @@ void register_render_benchmarks() {
     const std::string state = s == SheetState::intact ? "intact" : "torn";
     for (int threads : {1, 2}) {
       const std::string suffix = state + "/90x90x5/threads:" + std::to_string(threads);
-      benchmark::RegisterBenchmark(("render/surface/" + suffix).c_str(), render_surface, s, threads)
-          ->UseManualTime()
-          ->Unit(benchmark::kMillisecond);
-      benchmark::RegisterBenchmark(("render/frame/" + suffix).c_str(), render_frame, s, threads)
-          ->UseManualTime()
-          ->Unit(benchmark::kMillisecond);
+      register_timed("render/surface/" + suffix, benchmark::kMillisecond, render_surface, s, threads);
+      register_timed("render/frame/" + suffix, benchmark::kMillisecond, render_frame, s, threads);
     }
   }
 }

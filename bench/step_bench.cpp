@@ -63,16 +63,12 @@ void step_reference(benchmark::State& state, Case c) {
 
 void register_step_benchmarks() {
   for (const Case& c : papertear_cases()) {
-    benchmark::RegisterBenchmark(case_name("step", "papertear", c).c_str(), step_papertear, c)
-        ->UseManualTime()
-        ->Unit(benchmark::kMillisecond);
+    register_timed(case_name("step", "papertear", c), benchmark::kMillisecond, step_papertear, c);
   }
   // The reference is serial: one case per size.
   for (const Case& c : papertear_cases()) {
     if (c.threads != 1) continue;
-    benchmark::RegisterBenchmark(case_name("step", "reference", c).c_str(), step_reference, c)
-        ->UseManualTime()
-        ->Unit(benchmark::kMillisecond);
+    register_timed(case_name("step", "reference", c), benchmark::kMillisecond, step_reference, c);
   }
 }
 
