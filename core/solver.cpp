@@ -141,6 +141,10 @@ struct FineStrips {
   }
   std::size_t even_strips() const { return (strips + 1) / 2; }
   std::size_t odd_strips() const { return strips / 2; }
+  // The region of the odd strips (whose neighbours, the even strips, have run).
+  void run_odd(const CellForceInputs& in, const ForceOutputs& out) const {
+    parallel_chunks(odd_strips(), 1, [&](std::size_t t, std::size_t, std::size_t) { run(2 * t + 1, in, out); });
+  }
 };
 
 FineStrips fine_strips(const Topology& topo) {
@@ -165,7 +169,7 @@ void add_fine_and_block_forces(World& w, SolverScratch& scratch, const CellForce
         if (new_topology) refresh_block_lattice(b, e, w.topo, w.blocks, lattice);
         block_lattice_forces(b, e, in, lattice);
       });
-  parallel_chunks(strips.odd_strips(), 1, [&](std::size_t t, std::size_t, std::size_t) { strips.run(2 * t + 1, in, out); });
+  strips.run_odd(in, out);
 }
 
 ForceOutputs force_outputs(World& w) { return {w.scratch.fx.data(), w.scratch.fy.data(), w.scratch.fz.data()}; }
@@ -202,7 +206,7 @@ void stage_nodes(World& w, SolverScratch& scratch, const ForceOutputs& out, cons
 void add_fine_forces(const Topology& topo, const CellForceInputs& in, const ForceOutputs& out) {
   const FineStrips strips = fine_strips(topo);
   parallel_chunks(strips.even_strips(), 1, [&](std::size_t t, std::size_t, std::size_t) { strips.run(2 * t, in, out); });
-  parallel_chunks(strips.odd_strips(), 1, [&](std::size_t t, std::size_t, std::size_t) { strips.run(2 * t + 1, in, out); });
+  strips.run_odd(in, out);
 }
 
 void evaluate_forces(World& w, SolverScratch& scratch) {
