@@ -10,6 +10,7 @@
 #include <vector>
 
 #include <benchmark/benchmark.h>
+#include <oneapi/tbb/task_arena.h>
 
 #include "core/scene.hpp"
 #include "core/world.hpp"
@@ -72,11 +73,19 @@ struct SolverFootprint {
 };
 SolverFootprint solver_footprint(const World& world);
 
+// The sqrt+div probe's kernel (probe_bench.cpp): one run on `threads` threads of `arena`,
+// its wall time and the square root + division pairs it did.
+struct SqrtDivRun {
+  double seconds = 0.0, pairs = 0.0;
+};
+SqrtDivRun sqrt_div_run(tbb::task_arena& arena, int threads);
+
 // Each registers its cases with Google Benchmark (called once, from main).
 void register_step_benchmarks();
 void register_force_benchmarks();
 void register_fracture_benchmarks();
 void register_probe_benchmarks();
+void register_paired_benchmarks();
 void register_render_benchmarks();  // only when the renderer is built (PAPERTEAR_BENCH_RENDER)
 
 }  // namespace papertear::bench

@@ -11,6 +11,7 @@ int main(int argc, char** argv) {
   papertear::bench::register_force_benchmarks();
   papertear::bench::register_fracture_benchmarks();
   papertear::bench::register_probe_benchmarks();
+  papertear::bench::register_paired_benchmarks();
 #ifdef PAPERTEAR_BENCH_RENDER
   papertear::bench::register_render_benchmarks();
 #endif

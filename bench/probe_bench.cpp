@@ -82,28 +82,35 @@ void probe_fma(benchmark::State& state, int threads) {
 
 void probe_sqrt_div(benchmark::State& state, int threads) {
   tbb::task_arena arena(threads);
-  std::vector<float> sink(std::size_t(threads) * Batch::size);
+  double pairs = 0.0;
   for (auto _ : state) {
-    state.SetIterationTime(on_threads(arena, threads, [&](int t) {
-      Batch acc[kChains], x[kChains];
-      for (int j = 0; j < kChains; ++j) {
-        acc[j] = Batch(0.0f);
-        x[j] = Batch(2.0f + float(j));
-      }
-      const Batch one(1.0f);
-      for (int r = 0; r < kRounds / 4; ++r)
-        for (int j = 0; j < kChains; ++j) acc[j] += one / xsimd::sqrt(x[j] + acc[j] * Batch(1e-30f));
-      Batch total = acc[0];
-      for (int j = 1; j < kChains; ++j) total += acc[j];
-      total.store_unaligned(sink.data() + std::size_t(t) * Batch::size);
-    }));
-    benchmark::DoNotOptimize(sink.data());
+    const SqrtDivRun run = sqrt_div_run(arena, threads);
+    state.SetIterationTime(run.seconds);
+    pairs = run.pairs;
   }
-  const double pairs = double(Batch::size) * kChains * (kRounds / 4) * threads;
   state.counters["pairs_per_s"] = benchmark::Counter(pairs, benchmark::Counter::kIsIterationInvariantRate);
 }
 
 }  // namespace
+
+SqrtDivRun sqrt_div_run(tbb::task_arena& arena, int threads) {
+  std::vector<float> sink(std::size_t(threads) * Batch::size);
+  const double seconds = on_threads(arena, threads, [&](int t) {
+    Batch acc[kChains], x[kChains];
+    for (int j = 0; j < kChains; ++j) {
+      acc[j] = Batch(0.0f);
+      x[j] = Batch(2.0f + float(j));
+    }
+    const Batch one(1.0f);
+    for (int r = 0; r < kRounds / 4; ++r)
+      for (int j = 0; j < kChains; ++j) acc[j] += one / xsimd::sqrt(x[j] + acc[j] * Batch(1e-30f));
+    Batch total = acc[0];
+    for (int j = 1; j < kChains; ++j) total += acc[j];
+    total.store_unaligned(sink.data() + std::size_t(t) * Batch::size);
+  });
+  benchmark::DoNotOptimize(sink.data());
+  return {seconds, double(Batch::size) * kChains * (kRounds / 4) * threads};
+}
 
 void register_probe_benchmarks() {
   for (int threads : {1, 2}) {

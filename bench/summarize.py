@@ -3,7 +3,8 @@
 bench/README.md: medians per case, then the ratios papertear vs reference, 2 threads vs 1,
 fracture pass vs step (on the quiet sheet, and while the default scene tears: the
 fracture/default case's share_of_step counter), and measured vs the machine floor from the
-probe cases.
+probe cases; then the same step ratios as the step/paired cases measured them, pair by pair
+within each iteration.
 
 The floor of one RK4 step is the larger of (both are also reported on their own)
   compute: evaluated_springs * 4 stages / (sqrt+div pairs per second), and
@@ -75,8 +76,22 @@ def ratios(cases):
                 # Issue 5 states its target against the compute floor alone.
                 out.append((f"step {size}, {t} threads: measured / compute floor ({compute * 1e3:.3f} ms, sqrt+div)",
                             step_case["seconds"] / compute, "vs compute floor"))
+        out += paired(cases, size)
     out += growth_and_render(cases)
     return out
+
+
+def paired(cases, size):
+    """The same ratios from step/paired (bench/paired_bench.cpp): each iteration times the
+    reference, papertear on 2 and on 1 thread and the sqrt+div probe back to back, and the
+    counters are medians of the per-iteration ratios, so drift of the machine's speed between
+    cases does not enter them."""
+    c = cases.get(f"step/paired/{size}/threads:2", {}).get("counters", {})
+    rows = (("reference_over_t2", "reference (1 thread) / papertear (2 threads)", "speed-up"),
+            ("reference_over_t1", "reference (1 thread) / papertear (1 thread)", "speed-up"),
+            ("t1_over_t2", "papertear 1 thread / 2 threads", "thread scaling"),
+            ("t2_over_compute_floor", "papertear (2 threads) / compute floor (sqrt+div)", "vs compute floor"))
+    return [(f"step {size}, paired within each iteration: {what}", c[key], kind) for key, what, kind in rows if key in c]
 
 
 def growth_and_render(cases):
