@@ -641,38 +641,6 @@ TEST_CASE("papertear run keeps the newest checkpoints; bad resumes fail cleanly"
   }
 }
 
-namespace {
-
-// Starts the CLI in a child process (no shell, so SIGINT reaches it and is not ignored).
-pid_t spawn_cli(const std::vector<std::string>& args, const fs::path& out, const fs::path& err) {
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
-  posix_spawn_file_actions_addopen(&actions, 1, out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  posix_spawn_file_actions_addopen(&actions, 2, err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  std::vector<std::string> all = {PAPERTEAR_CLI};
-  all.insert(all.end(), args.begin(), args.end());
-  std::vector<char*> argv;
-  for (std::string& a : all) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  pid_t pid = -1;
-  const int rc = posix_spawn(&pid, PAPERTEAR_CLI, &actions, nullptr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
-  return rc == 0 ? pid : -1;
-}
-
-// Waits until `path` contains `text` (or the timeout passes).
-bool wait_for_text(const fs::path& path, const std::string& text, std::chrono::seconds timeout) {
-  const auto deadline = std::chrono::steady_clock::now() + timeout;
-  while (std::chrono::steady_clock::now() < deadline) {
-    if (read_text(path).find(text) != std::string::npos) return true;
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  }
-  return false;
-}
-
-}  // namespace
-
 TEST_CASE("Ctrl-C: the run stops after a step, saves a checkpoint and says how to resume", "[checkpoint][cli]") {
   const fs::path dir = test_dir("cli_interrupt");
   const fs::path out = dir / "out";
@@ -681,9 +649,9 @@ TEST_CASE("Ctrl-C: the run stops after a step, saves a checkpoint and says how t
                                          "--set", "load.notch=3", "--set", "load.grip_margin=2",
                                          "--set", "output.png=false", "--steps", "200000", "--frames", "20000",
                                          "--threads", "2", "--out", out.string()};
-  const pid_t pid = spawn_cli(args, dir / "run.out", dir / "run.err");
+  const pid_t pid = pt::testing::spawn_cli(PAPERTEAR_CLI, args, dir / "run.out", dir / "run.err");
   REQUIRE(pid > 0);
-  const bool started = wait_for_text(dir / "run.err", "frame 3/", std::chrono::seconds(120));
+  const bool started = pt::testing::wait_for_text(dir / "run.err", "frame 3/", std::chrono::seconds(120));
   kill(pid, SIGINT);
   int status = 0;
   REQUIRE(waitpid(pid, &status, 0) == pid);

@@ -1,6 +1,10 @@
 // `papertear sweep`: sweep files and their point order, and the program run as a child
 // process: a whole sweep, its points run one by one with --index and merged with --collect,
-// --count, agreement with `papertear run`, independence of --jobs/--threads, bad input.
+// --count, agreement with `papertear run`, independence of --jobs/--threads, bad input,
+// Ctrl-C.
+#include <signal.h>
+
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -306,3 +310,70 @@ TEST_CASE("a sweep draws its plots with gnuplot, and without gnuplot still write
   }
   CHECK(read_text(dir / "plain/sweep.csv") == read_text(dir / "plotted/sweep.csv"));
 }
+
+#ifdef PAPERTEAR_CLI
+namespace {
+
+struct Stopped {
+  int code = -1;
+  std::string err;
+};
+
+// Sends SIGINT to a spawned sweep once `ready` says it has got that far, and waits for it.
+template <class Ready>
+Stopped interrupt_when(pid_t pid, const fs::path& err, const Ready& ready) {
+  const bool got_there = ready();
+  kill(pid, SIGINT);
+  int status = 0;
+  Stopped s;
+  if (waitpid(pid, &status, 0) != pid || !got_there) return s;
+  s.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
+  s.err = read_text(err);
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("Ctrl-C stops a sweep: point files already written stay, nothing half-written, exit 130", "[sweep][cli]") {
+  const fs::path dir = test_dir("interrupt");
+  // Point 0 ends at once, point 1 would run for many minutes.
+  const fs::path file = write_sweep(dir, "[grid]\nrun.steps = [5, 5000000]\n");
+  const std::string cli = PAPERTEAR_CLI;
+
+  SECTION("the whole sweep") {
+    const fs::path out = dir / "whole", err = dir / "whole.err";
+    const pid_t pid = papertear::testing::spawn_cli(cli, {"sweep", file.string(), "--out", out.string(), "--jobs", "1"},
+                                                    dir / "whole.out", err);
+    REQUIRE(pid > 0);
+    const Stopped s = interrupt_when(pid, err, [&] {
+      return papertear::testing::wait_for_text(err, "1/2 points done", std::chrono::seconds(120));
+    });
+    INFO(s.err);
+    CHECK(s.code == 130);
+    CHECK_THAT(s.err, Contains("sweep interrupted: 1 of 2 point files written") && Contains("--index I, then --collect"));
+    CHECK(fs::exists(io::point_file(out, 0)));
+    CHECK_FALSE(fs::exists(io::point_file(out, 1)));
+    // The finished point's file is whole; no temporary file is left; no tables were written.
+    CHECK(nlohmann::json::parse(read_text(io::point_file(out, 0)))["row"]["status"] == "completed");
+    std::size_t files = 0;
+    for (const auto& entry : fs::directory_iterator(out / "points")) files += entry.is_regular_file() ? 1 : 0;
+    CHECK(files == 1);
+    CHECK_FALSE(fs::exists(out / "sweep.csv"));
+    CHECK_FALSE(fs::exists(out / "sweep.json"));
+  }
+
+  SECTION("one point run with --index") {
+    const fs::path out = dir / "one", err = dir / "one.err";
+    const pid_t pid = papertear::testing::spawn_cli(cli, {"sweep", file.string(), "--index", "1", "--out", out.string()},
+                                                    dir / "one.out", err);
+    REQUIRE(pid > 0);
+    const Stopped s = interrupt_when(pid, err, [&] {
+      return papertear::testing::wait_for_handler(pid, SIGINT, std::chrono::seconds(60));
+    });
+    INFO(s.err);
+    CHECK(s.code == 130);
+    CHECK_THAT(s.err, Contains("point 1 interrupted; nothing written"));
+    CHECK_FALSE(fs::exists(io::point_file(out, 1)));
+  }
+}
+#endif  // PAPERTEAR_CLI
