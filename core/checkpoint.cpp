@@ -50,28 +50,46 @@ T get_le(const char* p) {
   return std::bit_cast<T>(bits);
 }
 
+// The payload's fields are listed once (the *_fields templates below) for both directions:
+// ByteWriter and ByteReader have the same field functions, the writer's taking values to
+// store and the reader's references to fill. `what` names a field in the reader's errors.
 class ByteWriter {
  public:
-  void tag(std::string_view t) { out_.append(t); }
+  static constexpr bool kReading = false;
+
+  void section(std::string_view t) { out_.append(t); }
+  // A value stored as type F (for example an int as int32).
+  template <class F, class T>
+  void field_as(const T& v, const char*) { put_le(out_, F(v)); }
   template <class T>
-  void value(T v) { put_le(out_, v); }
-  void flag(bool b) { value(std::uint8_t(b ? 1 : 0)); }
-  void letter(char c) { value(static_cast<std::uint8_t>(c)); }
-  void text(std::string_view s) {
-    value(std::uint64_t(s.size()));
+  void field(const T& v, const char* what) { field_as<T>(v, what); }
+  void int32(int v, const char* what) { field_as<std::int32_t>(v, what); }
+  void flag(bool b, const char* what) { field_as<std::uint8_t>(b ? 1 : 0, what); }
+  void letter(char c, const char* what) { field_as<std::uint8_t>(static_cast<unsigned char>(c), what); }
+  void text(std::string_view s, const char* what) {
+    field_as<std::uint64_t>(s.size(), what);
     out_.append(s);
   }
-  template <class T>
-  void column(const T* data, std::size_t n) {
-    value(std::uint64_t(n));
-    if constexpr (std::endian::native == std::endian::little) {
-      out_.append(reinterpret_cast<const char*>(data), n * sizeof(T));
-    } else {
-      for (std::size_t i = 0; i < n; ++i) put_le(out_, data[i]);
-    }
+  template <class T, std::size_t N>
+  void fixed(const std::array<T, N>& a, const char* what) {
+    for (const T& v : a) field(v, what);
   }
   template <class C>
-  void column(const C& c) { column(c.data(), c.size()); }
+  void column(const C& c, const char* what) {
+    using T = std::remove_cvref_t<decltype(c[0])>;
+    field_as<std::uint64_t>(c.size(), what);
+    if constexpr (std::endian::native == std::endian::little) {
+      out_.append(reinterpret_cast<const char*>(c.data()), c.size() * sizeof(T));
+    } else {
+      for (const T& v : c) put_le(out_, v);
+    }
+  }
+  // A count, then each element by `element(e)`.
+  template <class E, class Element>
+  void list(const std::vector<E>& v, std::size_t, const char* what, const Element& element) {
+    field_as<std::uint64_t>(v.size(), what);
+    for (const E& e : v) element(e);
+  }
   std::string take() { return std::move(out_); }
 
  private:
@@ -80,6 +98,8 @@ class ByteWriter {
 
 class ByteReader {
  public:
+  static constexpr bool kReading = true;
+
   explicit ByteReader(std::string_view bytes) : all_(bytes), rest_(bytes) {}
 
   void section(std::string_view t) {
@@ -90,15 +110,27 @@ class ByteReader {
   }
   template <class T>
   T value(const char* what) { return get_le<T>(take(sizeof(T), what).data()); }
-  bool flag(const char* what) {
+  template <class F, class T>
+  void field_as(T& v, const char* what) { v = T(value<F>(what)); }
+  template <class T>
+  void field(T& v, const char* what) { v = value<T>(what); }
+  void int32(int& v, const char* what) { v = int(value<std::int32_t>(what)); }
+  void flag(bool& out, const char* what) {
     const auto b = value<std::uint8_t>(what);
     if (b > 1) inconsistent(std::string(what) + " in section " + section_ + " is " + str(b) + ", not 0 or 1");
-    return b == 1;
+    out = b == 1;
   }
-  char letter(const char* what) { return static_cast<char>(value<std::uint8_t>(what)); }
-  std::string text(const char* what) {
+  void letter(char& c, const char* what) { c = static_cast<char>(value<std::uint8_t>(what)); }
+  void text(std::string& s, const char* what) {
     const std::uint64_t n = count(1, what);
-    return std::string(take(std::size_t(n), what));
+    s = std::string(take(std::size_t(n), what));
+  }
+  // A count, checked against the bytes left (each element takes at least `min_bytes`)
+  // before anything is allocated, then each element by `element(e)`.
+  template <class E, class Element>
+  void list(std::vector<E>& v, std::size_t min_bytes, const char* what, const Element& element) {
+    v.resize(std::size_t(count(min_bytes, what)));
+    for (E& e : v) element(e);
   }
   // A column's element count, refused before anything is allocated when the elements
   // cannot fit in what is left of the payload.
@@ -124,7 +156,7 @@ class ByteReader {
   }
   template <class T, std::size_t N>
   void fixed(std::array<T, N>& out, const char* what) {
-    for (T& v : out) v = value<T>(what);
+    for (T& v : out) field(v, what);
   }
   std::size_t offset() const { return all_.size() - rest_.size(); }
   std::size_t remaining() const { return rest_.size(); }
@@ -145,326 +177,191 @@ class ByteReader {
 };
 
 // ---------------------------------------------------------------------------------------
-// Writing. Every field is named explicitly: a field added to a struct must be added here,
-// to the reader below, and the format version bumped.
+// The payload, field by field, for writing (IO = ByteWriter, const structs) and reading
+// (IO = ByteReader). A field added to a struct must be added here and the format version
+// bumped. Sizes are only read here; whether they agree is checked below.
 
-void write_scene(ByteWriter& w, const Scene& s) {
-  w.tag("SCEN");
-  for (int v : s.sheet.cells) w.value(std::int32_t(v));
-  for (double v : s.sheet.cell_size) w.value(v);
-  w.value(s.sheet.density);
+template <class IO, class S>
+void scene_fields(IO& io, S& s) {
+  io.section("SCEN");
+  for (auto& v : s.sheet.cells) io.int32(v, "sheet.cells");
+  io.fixed(s.sheet.cell_size, "sheet.cell_size");
+  io.field(s.sheet.density, "sheet.density");
 
-  const MaterialParams& m = s.material;
-  w.text(m.preset);
-  w.letter(m.grain);
-  for (double v : {m.k_edge, m.k_face, m.k_body, m.damping, m.grain_stiffness, m.fiber_length,
-                   m.fiber_length_sigma})
-    w.value(v);
-  w.value(std::int32_t(m.block_width));
-  w.value(std::int32_t(m.block_depth));
-  for (double v : {m.block_stiffness, m.strain_intra, m.strain_inter, m.strain_layer, m.strain_surface,
-                   m.grain_strength, m.strength_jitter})
-    w.value(v);
+  auto& m = s.material;
+  io.text(m.preset, "material.preset");
+  io.letter(m.grain, "material.grain");
+  for (auto* v : {&m.k_edge, &m.k_face, &m.k_body, &m.damping, &m.grain_stiffness, &m.fiber_length,
+                  &m.fiber_length_sigma})
+    io.field(*v, "a material value");
+  io.int32(m.block_width, "material.block_width");
+  io.int32(m.block_depth, "material.block_depth");
+  for (auto* v : {&m.block_stiffness, &m.strain_intra, &m.strain_inter, &m.strain_layer, &m.strain_surface,
+                  &m.grain_strength, &m.strength_jitter})
+    io.field(*v, "a material value");
 
-  const LoadParams& l = s.load;
-  w.text(l.kind);
-  w.letter(l.axis);
-  w.value(std::int32_t(l.grip_cells));
-  w.value(l.speed);
-  w.value(l.ramp_time);
-  w.value(std::int32_t(l.grip_margin));
-  w.value(std::int32_t(l.notch));
-  w.text(l.indenter);
-  for (double v : {l.indenter_radius, l.indenter_angle, l.indenter_at[0], l.indenter_at[1], l.contact_stiffness})
-    w.value(v);
+  auto& l = s.load;
+  io.text(l.kind, "load.kind");
+  io.letter(l.axis, "load.axis");
+  io.int32(l.grip_cells, "load.grip_cells");
+  io.field(l.speed, "load.speed");
+  io.field(l.ramp_time, "load.ramp_time");
+  io.int32(l.grip_margin, "load.grip_margin");
+  io.int32(l.notch, "load.notch");
+  io.text(l.indenter, "load.indenter");
+  for (auto* v : {&l.indenter_radius, &l.indenter_angle, &l.indenter_at[0], &l.indenter_at[1], &l.contact_stiffness})
+    io.field(*v, "an indenter value");
 
-  for (double v : s.world.gravity) w.value(v);
-  w.value(s.world.drag);
+  io.fixed(s.world.gravity, "world.gravity");
+  io.field(s.world.drag, "world.drag");
 
-  const RunParams& r = s.run;
-  w.value(std::int32_t(r.steps));
-  w.value(r.dt);
-  w.value(r.dt_safety);
-  w.value(std::int32_t(r.frames));
-  w.value(std::uint64_t(r.seed));
-  w.value(std::int32_t(r.max_splits_per_step));
+  auto& run = s.run;
+  io.int32(run.steps, "run.steps");
+  io.field(run.dt, "run.dt");
+  io.field(run.dt_safety, "run.dt_safety");
+  io.int32(run.frames, "run.frames");
+  io.template field_as<std::uint64_t>(run.seed, "run.seed");
+  io.int32(run.max_splits_per_step, "run.max_splits_per_step");
 
-  w.value(std::uint64_t(s.lines.size()));
-  for (const LineParams& line : s.lines) {
-    w.text(line.kind);
-    w.value(std::uint64_t(line.points.size()));
-    for (const auto& p : line.points) {
-      w.value(p[0]);
-      w.value(p[1]);
-    }
-    w.value(line.strength);
-    w.value(std::int32_t(line.depth));
-    w.value(line.pitch);
-    w.value(line.duty);
+  // The fewest bytes a stored line takes: kind length, point count, strength, depth, pitch, duty.
+  constexpr std::size_t kLineMinBytes = 8 + 8 + 8 + 4 + 8 + 8;
+  io.list(s.lines, kLineMinBytes, "the line count", [&](auto& line) {
+    io.text(line.kind, "line.kind");
+    io.list(line.points, 2 * sizeof(double), "line.points", [&](auto& p) {
+      io.field(p[0], "line.points");
+      io.field(p[1], "line.points");
+    });
+    io.field(line.strength, "line.strength");
+    io.int32(line.depth, "line.depth");
+    io.field(line.pitch, "line.pitch");
+    io.field(line.duty, "line.duty");
+  });
+}
+
+template <class IO, class N>
+void node_fields(IO& io, N& n) {
+  io.section("NODE");
+  std::uint64_t count = n.count;
+  io.field(count, "the node count");
+  if constexpr (IO::kReading) {
+    if (count >= std::uint64_t(UINT32_MAX)) inconsistent("node count " + str(count) + " exceeds 32-bit node ids");
+    n.count = std::size_t(count);
   }
+  io.column(n.px, "px");
+  io.column(n.py, "py");
+  io.column(n.pz, "pz");
+  io.column(n.vx, "vx");
+  io.column(n.vy, "vy");
+  io.column(n.vz, "vz");
+  io.column(n.inv_mass, "inv_mass");
+  io.column(n.free_mask, "free_mask");
+  io.column(n.mass, "mass");
+  io.column(n.vertex, "vertex");
+  io.column(n.grip, "grip");
 }
 
-void write_nodes(ByteWriter& w, const NodeStore& n) {
-  w.tag("NODE");
-  w.value(std::uint64_t(n.count));
-  for (const AlignedArray<float>* c : {&n.px, &n.py, &n.pz, &n.vx, &n.vy, &n.vz, &n.inv_mass, &n.free_mask, &n.mass})
-    w.column(*c);
-  w.column(n.vertex);
-  w.column(n.grip);
+template <class IO, class T>
+void topology_fields(IO& io, T& t) {
+  io.section("TOPO");
+  io.int32(t.dims.nx, "dims.nx");
+  io.int32(t.dims.ny, "dims.ny");
+  io.int32(t.dims.nl, "dims.nl");
+  io.field(t.dims.hx, "dims.hx");
+  io.field(t.dims.hy, "dims.hy");
+  io.field(t.dims.hz, "dims.hz");
+  io.column(t.cell_nodes, "cell_nodes");
+  for (auto& list : t.colour_cells) io.column(list, "colour_cells");
+  io.column(t.cell_scale, "cell_scale");
+  io.column(t.cell_block, "cell_block");
+  io.column(t.face_strain, "face_strain");
 }
 
-void write_topology(ByteWriter& w, const Topology& t) {
-  w.tag("TOPO");
-  w.value(std::int32_t(t.dims.nx));
-  w.value(std::int32_t(t.dims.ny));
-  w.value(std::int32_t(t.dims.nl));
-  w.value(t.dims.hx);
-  w.value(t.dims.hy);
-  w.value(t.dims.hz);
-  w.column(t.cell_nodes);
-  for (const auto& list : t.colour_cells) w.column(list);
-  w.column(t.cell_scale);
-  w.column(t.cell_block);
-  w.column(t.face_strain);
+template <class IO, class S>
+void spring_fields(IO& io, S& s) {
+  io.section("SPRG");
+  io.fixed(s.rest, "rest");
+  io.fixed(s.stiffness, "stiffness");
+  io.fixed(s.damping, "damping");
 }
 
-void write_springs(ByteWriter& w, const SpringTable& s) {
-  w.tag("SPRG");
-  for (const auto* a : {&s.rest, &s.stiffness, &s.damping})
-    for (float v : *a) w.value(v);
+template <class IO, class C>
+void coarse_fields(IO& io, C& c) {
+  io.section("CRSE");
+  io.column(c.cell_a, "cell_a");
+  io.column(c.cell_b, "cell_b");
+  io.column(c.corner_a, "corner_a");
+  io.column(c.corner_b, "corner_b");
+  io.column(c.rest, "rest");
+  io.column(c.stiffness, "stiffness");
+  io.column(c.damping, "damping");
+  io.column(c.block, "block");
 }
 
-void write_coarse(ByteWriter& w, const CoarseSprings& c) {
-  w.tag("CRSE");
-  w.column(c.cell_a);
-  w.column(c.cell_b);
-  w.column(c.corner_a);
-  w.column(c.corner_b);
-  w.column(c.rest);
-  w.column(c.stiffness);
-  w.column(c.damping);
-  w.column(c.block);
+template <class IO, class B>
+void block_fields(IO& io, B& blocks) {
+  io.section("BLKS");
+  constexpr std::size_t kBlockBytes = 6 * 4 + 4 + 1 + 4 + 4;
+  io.list(blocks, kBlockBytes, "the block count", [&](auto& b) {
+    for (auto& v : b.lo) io.int32(v, "block lo");
+    for (auto& v : b.hi) io.int32(v, "block hi");
+    io.field(b.strength, "block strength");
+    io.flag(b.intact, "block intact");
+    io.field(b.first_spring, "block first_spring");
+    io.field(b.spring_count, "block spring_count");
+  });
 }
 
-void write_blocks(ByteWriter& w, const std::vector<Block>& blocks) {
-  w.tag("BLKS");
-  w.value(std::uint64_t(blocks.size()));
-  for (const Block& b : blocks) {
-    for (int v : b.lo) w.value(std::int32_t(v));
-    for (int v : b.hi) w.value(std::int32_t(v));
-    w.value(b.strength);
-    w.flag(b.intact);
-    w.value(b.first_spring);
-    w.value(b.spring_count);
-  }
-}
-
-void write_grips(ByteWriter& w, const World& world) {
-  w.tag("GRIP");
-  w.value(std::uint64_t(world.grips.size()));
-  for (const Grip& g : world.grips)
-    for (float v : g.velocity) w.value(v);
-  w.column(world.gripped_nodes);
+template <class IO, class W>
+void grip_fields(IO& io, W& world) {
+  io.section("GRIP");
+  io.list(world.grips, 12, "the grip count", [&](auto& g) { io.fixed(g.velocity, "grip velocity"); });
+  io.column(world.gripped_nodes, "gripped_nodes");
 }
 
 constexpr std::size_t kEventBytes = 8 + 4 + 4 + 1 + 1 + 4 + 1;
 
-void write_events(ByteWriter& w, const std::vector<SplitEvent>& events) {
-  w.tag("EVNT");
-  w.value(std::uint64_t(events.size()));
-  for (const SplitEvent& e : events) {
-    w.value(std::int64_t(e.step));
-    w.value(e.node);
-    w.value(e.new_node);
-    w.value(e.axis);
-    w.flag(e.interlayer);
-    w.value(e.cell);
-    w.value(e.slot);
-  }
+template <class IO, class E>
+void event_fields(IO& io, E& events) {
+  io.section("EVNT");
+  io.list(events, kEventBytes, "the event count", [&](auto& e) {
+    io.template field_as<std::int64_t>(e.step, "event step");
+    io.field(e.node, "event node");
+    io.field(e.new_node, "event new_node");
+    io.field(e.axis, "event axis");
+    io.flag(e.interlayer, "event interlayer");
+    io.field(e.cell, "event cell");
+    io.field(e.slot, "event slot");
+  });
+}
+
+// The whole payload: the world's parts, its clock, then the caller's bytes.
+template <class IO, class W, class U>
+void payload_fields(IO& io, W& w, U& user_data) {
+  scene_fields(io, w.scene);
+  node_fields(io, w.nodes);
+  topology_fields(io, w.topo);
+  spring_fields(io, w.springs);
+  coarse_fields(io, w.coarse);
+  block_fields(io, w.blocks);
+  grip_fields(io, w);
+  event_fields(io, w.events);
+  io.section("CLCK");
+  io.template field_as<std::int64_t>(w.step, "step");
+  io.field(w.time, "time");
+  io.field(w.dt, "dt");
+  io.section("USER");
+  io.text(user_data, "user data");
 }
 
 std::string write_payload(const World& world, std::string_view user_data) {
   ByteWriter w;
-  write_scene(w, world.scene);
-  write_nodes(w, world.nodes);
-  write_topology(w, world.topo);
-  write_springs(w, world.springs);
-  write_coarse(w, world.coarse);
-  write_blocks(w, world.blocks);
-  write_grips(w, world);
-  write_events(w, world.events);
-  w.tag("CLCK");
-  w.value(std::int64_t(world.step));
-  w.value(world.time);
-  w.value(world.dt);
-  w.tag("USER");
-  w.text(user_data);
+  payload_fields(w, world, user_data);
   return w.take();
-}
-
-// ---------------------------------------------------------------------------------------
-// Reading: the same order. Sizes are only read here; whether they agree is checked below.
-
-int read_int(ByteReader& r, const char* what) { return int(r.value<std::int32_t>(what)); }
-
-// The fewest bytes a stored line takes: kind length, point count, strength, depth, pitch, duty.
-constexpr std::size_t kLineMinBytes = 8 + 8 + 8 + 4 + 8 + 8;
-
-void read_scene(ByteReader& r, Scene& s) {
-  r.section("SCEN");
-  for (int& v : s.sheet.cells) v = read_int(r, "sheet.cells");
-  r.fixed(s.sheet.cell_size, "sheet.cell_size");
-  s.sheet.density = r.value<double>("sheet.density");
-
-  MaterialParams& m = s.material;
-  m.preset = r.text("material.preset");
-  m.grain = r.letter("material.grain");
-  for (double* v : {&m.k_edge, &m.k_face, &m.k_body, &m.damping, &m.grain_stiffness, &m.fiber_length,
-                    &m.fiber_length_sigma})
-    *v = r.value<double>("a material value");
-  m.block_width = read_int(r, "material.block_width");
-  m.block_depth = read_int(r, "material.block_depth");
-  for (double* v : {&m.block_stiffness, &m.strain_intra, &m.strain_inter, &m.strain_layer, &m.strain_surface,
-                    &m.grain_strength, &m.strength_jitter})
-    *v = r.value<double>("a material value");
-
-  LoadParams& l = s.load;
-  l.kind = r.text("load.kind");
-  l.axis = r.letter("load.axis");
-  l.grip_cells = read_int(r, "load.grip_cells");
-  l.speed = r.value<double>("load.speed");
-  l.ramp_time = r.value<double>("load.ramp_time");
-  l.grip_margin = read_int(r, "load.grip_margin");
-  l.notch = read_int(r, "load.notch");
-  l.indenter = r.text("load.indenter");
-  for (double* v : {&l.indenter_radius, &l.indenter_angle, &l.indenter_at[0], &l.indenter_at[1], &l.contact_stiffness})
-    *v = r.value<double>("an indenter value");
-
-  r.fixed(s.world.gravity, "world.gravity");
-  s.world.drag = r.value<double>("world.drag");
-
-  RunParams& run = s.run;
-  run.steps = read_int(r, "run.steps");
-  run.dt = r.value<double>("run.dt");
-  run.dt_safety = r.value<double>("run.dt_safety");
-  run.frames = read_int(r, "run.frames");
-  run.seed = r.value<std::uint64_t>("run.seed");
-  run.max_splits_per_step = read_int(r, "run.max_splits_per_step");
-
-  // Counts are checked against the bytes left before anything is allocated.
-  s.lines.resize(std::size_t(r.count(kLineMinBytes, "the line count")));
-  for (LineParams& line : s.lines) {
-    line.kind = r.text("line.kind");
-    line.points.resize(std::size_t(r.count(2 * sizeof(double), "line.points")));
-    for (auto& p : line.points) {
-      p[0] = r.value<double>("line.points");
-      p[1] = r.value<double>("line.points");
-    }
-    line.strength = r.value<double>("line.strength");
-    line.depth = read_int(r, "line.depth");
-    line.pitch = r.value<double>("line.pitch");
-    line.duty = r.value<double>("line.duty");
-  }
-}
-
-void read_nodes(ByteReader& r, NodeStore& n) {
-  r.section("NODE");
-  const std::uint64_t count = r.value<std::uint64_t>("the node count");
-  if (count >= std::uint64_t(UINT32_MAX)) inconsistent("node count " + str(count) + " exceeds 32-bit node ids");
-  n.count = std::size_t(count);
-  const char* names[] = {"px", "py", "pz", "vx", "vy", "vz", "inv_mass", "free_mask", "mass"};
-  AlignedArray<float>* cols[] = {&n.px, &n.py, &n.pz, &n.vx, &n.vy, &n.vz, &n.inv_mass, &n.free_mask, &n.mass};
-  for (std::size_t i = 0; i < std::size(cols); ++i) r.column(*cols[i], names[i]);
-  r.column(n.vertex, "vertex");
-  r.column(n.grip, "grip");
-}
-
-void read_topology(ByteReader& r, Topology& t) {
-  r.section("TOPO");
-  t.dims.nx = read_int(r, "dims.nx");
-  t.dims.ny = read_int(r, "dims.ny");
-  t.dims.nl = read_int(r, "dims.nl");
-  t.dims.hx = r.value<double>("dims.hx");
-  t.dims.hy = r.value<double>("dims.hy");
-  t.dims.hz = r.value<double>("dims.hz");
-  r.column(t.cell_nodes, "cell_nodes");
-  for (auto& list : t.colour_cells) r.column(list, "colour_cells");
-  r.column(t.cell_scale, "cell_scale");
-  r.column(t.cell_block, "cell_block");
-  r.column(t.face_strain, "face_strain");
-}
-
-void read_springs(ByteReader& r, SpringTable& s) {
-  r.section("SPRG");
-  r.fixed(s.rest, "rest");
-  r.fixed(s.stiffness, "stiffness");
-  r.fixed(s.damping, "damping");
-}
-
-void read_coarse(ByteReader& r, CoarseSprings& c) {
-  r.section("CRSE");
-  r.column(c.cell_a, "cell_a");
-  r.column(c.cell_b, "cell_b");
-  r.column(c.corner_a, "corner_a");
-  r.column(c.corner_b, "corner_b");
-  r.column(c.rest, "rest");
-  r.column(c.stiffness, "stiffness");
-  r.column(c.damping, "damping");
-  r.column(c.block, "block");
-}
-
-void read_blocks(ByteReader& r, std::vector<Block>& blocks) {
-  r.section("BLKS");
-  constexpr std::size_t kBlockBytes = 6 * 4 + 4 + 1 + 4 + 4;
-  blocks.resize(std::size_t(r.count(kBlockBytes, "the block count")));
-  for (Block& b : blocks) {
-    for (int& v : b.lo) v = read_int(r, "block lo");
-    for (int& v : b.hi) v = read_int(r, "block hi");
-    b.strength = r.value<float>("block strength");
-    b.intact = r.flag("block intact");
-    b.first_spring = r.value<std::uint32_t>("block first_spring");
-    b.spring_count = r.value<std::uint32_t>("block spring_count");
-  }
-}
-
-void read_grips(ByteReader& r, World& world) {
-  r.section("GRIP");
-  world.grips.resize(std::size_t(r.count(12, "the grip count")));
-  for (Grip& g : world.grips) r.fixed(g.velocity, "grip velocity");
-  r.column(world.gripped_nodes, "gripped_nodes");
-}
-
-void read_events(ByteReader& r, std::vector<SplitEvent>& events) {
-  r.section("EVNT");
-  events.resize(std::size_t(r.count(kEventBytes, "the event count")));
-  for (SplitEvent& e : events) {
-    e.step = r.value<std::int64_t>("event step");
-    e.node = r.value<std::uint32_t>("event node");
-    e.new_node = r.value<std::uint32_t>("event new_node");
-    e.axis = r.value<std::uint8_t>("event axis");
-    e.interlayer = r.flag("event interlayer");
-    e.cell = r.value<std::uint32_t>("event cell");
-    e.slot = r.value<std::uint8_t>("event slot");
-  }
 }
 
 void read_payload(std::string_view payload, CheckpointContents& out) {
   ByteReader r(payload);
-  World& w = out.world;
-  read_scene(r, w.scene);
-  read_nodes(r, w.nodes);
-  read_topology(r, w.topo);
-  read_springs(r, w.springs);
-  read_coarse(r, w.coarse);
-  read_blocks(r, w.blocks);
-  read_grips(r, w);
-  read_events(r, w.events);
-  r.section("CLCK");
-  w.step = r.value<std::int64_t>("step");
-  w.time = r.value<double>("time");
-  w.dt = r.value<double>("dt");
-  r.section("USER");
-  out.user_data = r.text("user data");
+  payload_fields(r, out.world, out.user_data);
   if (r.remaining() != 0)
     inconsistent(str(r.remaining()) + " bytes follow the last section of the payload");
 }
