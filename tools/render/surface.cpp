@@ -1,9 +1,11 @@
 #include "tools/render/surface.hpp"
 
+#include <bit>
 #include <cmath>
 #include <limits>
 
 #include "fracture/connectivity.hpp"
+#include "kernels/parallel.hpp"
 #include "tools/render/fray.hpp"
 #include "tools/render/peel.hpp"
 
@@ -76,25 +78,55 @@ std::array<int, 4> face_loop(int face) {
   return loop;
 }
 
-std::vector<OpenFace> open_faces(const World& world) {
-  const LatticeDims& d = world.topo.dims;
-  std::vector<OpenFace> out;
-  const std::uint32_t cells = std::uint32_t(d.cells());
-  for (std::uint32_t c = 0; c < cells; ++c) {
-    const auto ijk = d.cell_ijk(c);
-    for (int f = 0; f < kFacesPerCell; ++f) {
-      if (faces_connected(world, c, f)) continue;
-      const bool outside = d.neighbour(ijk[0], ijk[1], ijk[2], f) < 0;
-      FaceKind kind;
-      if (outside)
-        kind = (f == 5 && ijk[2] == d.nl - 1) ? FaceKind::Print : FaceKind::Outer;
-      else
-        kind = (f >> 1) == 2 ? FaceKind::Separated : FaceKind::Torn;
-      out.push_back({c, std::uint8_t(f), kind});
+namespace {
+
+// Cells are taken in fixed chunks: the list comes out the same on any number of threads.
+constexpr std::size_t kCellChunk = 1024;
+
+// The kind of open face f of the cell at ijk.
+FaceKind kind_of(const LatticeDims& d, const std::array<int, 3>& ijk, int f) {
+  const bool outside = d.neighbour(ijk[0], ijk[1], ijk[2], f) < 0;
+  if (outside) return (f == 5 && ijk[2] == d.nl - 1) ? FaceKind::Print : FaceKind::Outer;
+  return (f >> 1) == 2 ? FaceKind::Separated : FaceKind::Torn;
+}
+
+}  // namespace
+
+std::vector<std::uint8_t> open_face_masks(const World& world) {
+  const std::size_t cells = std::size_t(world.topo.dims.cells());
+  std::vector<std::uint8_t> open(cells);
+  parallel_chunks(cells, kCellChunk, [&](std::size_t begin, std::size_t end, std::size_t) {
+    for (std::size_t c = begin; c < end; ++c) {
+      std::uint8_t bits = 0;
+      for (int f = 0; f < kFacesPerCell; ++f)
+        if (!faces_connected(world, std::uint32_t(c), f)) bits |= std::uint8_t(1u << f);
+      open[c] = bits;
     }
-  }
+  });
+  return open;
+}
+
+std::vector<OpenFace> open_faces(const World& world, const std::vector<std::uint8_t>& open) {
+  // Two passes over the same chunks: count each chunk's faces, then write them at their place.
+  const LatticeDims& d = world.topo.dims;
+  std::vector<std::size_t> first(chunk_count(open.size(), kCellChunk) + 1, 0);
+  parallel_chunks(open.size(), kCellChunk, [&](std::size_t begin, std::size_t end, std::size_t chunk) {
+    for (std::size_t c = begin; c < end; ++c) first[chunk + 1] += std::size_t(std::popcount(open[c]));
+  });
+  for (std::size_t c = 1; c < first.size(); ++c) first[c] += first[c - 1];
+  std::vector<OpenFace> out(first.back());
+  parallel_chunks(open.size(), kCellChunk, [&](std::size_t begin, std::size_t end, std::size_t chunk) {
+    std::size_t next = first[chunk];
+    for (std::size_t c = begin; c < end; ++c) {
+      const auto ijk = d.cell_ijk(std::uint32_t(c));
+      for (int f = 0; f < kFacesPerCell; ++f)
+        if (open[c] >> f & 1) out[next++] = {std::uint32_t(c), std::uint8_t(f), kind_of(d, ijk, f)};
+    }
+  });
   return out;
 }
+
+std::vector<OpenFace> open_faces(const World& world) { return open_faces(world, open_face_masks(world)); }
 
 namespace {
 
@@ -178,7 +210,7 @@ class QuadBuilder {
 }  // namespace
 
 SurfaceMesh build_surface_mesh(const World& world, const MeshOptions& options) {
-  const std::vector<OpenFace> faces = open_faces(world);
+  const std::vector<OpenFace> faces = open_faces(world, open_face_masks(world));
   const std::vector<float> opacity = cell_opacity(world, options.layer_opacity);
   SurfaceMesh mesh;
   mesh.triangles.reserve(faces.size() * 2);

@@ -34,6 +34,9 @@ struct OpenFace {
 
 // Every surface face, in ascending (cell, face) order.
 std::vector<OpenFace> open_faces(const World& world);
+// The same in two steps: per cell, bit f set when face f is a surface face; then the list.
+std::vector<std::uint8_t> open_face_masks(const World& world);
+std::vector<OpenFace> open_faces(const World& world, const std::vector<std::uint8_t>& open);
 
 struct SurfaceMesh {
   // Per vertex.
