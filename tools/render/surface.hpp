@@ -55,10 +55,6 @@ struct SurfaceMesh {
 
   std::size_t vertex_count() const { return position.size(); }
   std::size_t triangle_count() const { return triangles.size(); }
-  std::uint32_t add_vertex(const std::array<float, 3>& p, const std::array<float, 3>& n,
-                           const std::array<float, 2>& t, std::uint32_t node_id, std::uint32_t original);
-  void add_triangle(std::array<std::uint32_t, 3> v, Material m, FaceKind k, std::uint32_t cell_id,
-                    float alpha, float brightness);
   // Sets every per-vertex and per-triangle array to these sizes; set_vertex and
   // set_triangle then fill in new entries (several threads may fill disjoint ones).
   void resize(std::size_t vertices, std::size_t triangle_slots);
