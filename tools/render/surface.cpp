@@ -111,10 +111,15 @@ SurfaceMesh build_surface_mesh(const World& world, const MeshOptions& options) {
   const std::vector<OpenFace> faces = open_faces(world, open);
   const std::vector<float> opacity = cell_opacity(world, options.layer_opacity);
   const WeldedQuads quads(world, faces, open);
+  const FibrePlan fibres = options.fray ? plan_fibres(world, faces, options.fray_length) : FibrePlan{};
+  // Everything is counted before anything is written, so the mesh is sized once: no copies
+  // of grown arrays. The fibres come after the quads' triangles and vertices.
   SurfaceMesh mesh;
-  mesh.resize(quads.vertex_count(), quads.triangle_count());
+  mesh.resize(quads.vertex_count() + 3 * fibres.triangle_count(), quads.triangle_count() + fibres.triangle_count());
   quads.write(opacity, mesh);
-  if (options.fray) append_frayed_faces(world, faces, options.fray_length, opacity, mesh);
+  if (options.fray)
+    write_fibres(world, faces, options.fray_length, opacity, fibres, {quads.triangle_count(), quads.vertex_count()},
+                 mesh);
   return mesh;
 }
 
