@@ -174,10 +174,12 @@ void for_each_fibre(const World& world, std::uint32_t cell, int face, float leng
     }
     const Vec3 tip = f.at(t.tip_u, t.tip_w) +
                      cell_size * (t.length * f.outward + t.lean * along + t.lift * up);
+    Vec3 base[4];  // each corner of the base is in two sides
+    for (int e = 0; e < 4; ++e) base[e] = f.at(loop[e][0], loop[e][1]);
     for (int e = 0; e < 4; ++e) {
       const float* a = loop[e];
       const float* b = loop[(e + 1) % 4];
-      const Vec3 p[3] = {f.at(a[0], a[1]), f.at(b[0], b[1]), tip};
+      const Vec3 p[3] = {base[e], base[(e + 1) % 4], tip};
       const float uw[3][2] = {{a[0], a[1]}, {b[0], b[1]}, {t.tip_u, t.tip_w}};
       Vec3 n = (p[1] - p[0]).cross(p[2] - p[0]);
       if (!(n.norm() > 1e-20f)) continue;
