@@ -19,6 +19,9 @@ namespace {
 using Vec3 = Eigen::Vector3f;
 
 constexpr float kShortestFringe = 0.1f;  // of the longest fibre: shorter fringes are not drawn
+constexpr std::size_t kFaceChunk = 1024;  // faces per chunk of plan_fibres and write_fibres
+
+bool torn(const OpenFace& f) { return f.kind == FaceKind::Torn; }
 
 // The torn face as a bilinear patch P(u, w): u runs along the face in the sheet's plane,
 // w up through the thickness.
@@ -141,7 +144,7 @@ Teeth make_teeth(std::uint32_t cell, int face, float length) {
 
 // Calls fibre(f, p, uw, n, shade) for every fibre triangle of torn face `face` of `cell`:
 // its corners p at face coordinates uw (u, w) of face patch f, its unit normal n. Both passes
-// of append_frayed_faces see the same triangles.
+// (plan_fibres, write_fibres) see the same triangles.
 template <class Fibre>
 void for_each_fibre(const World& world, std::uint32_t cell, int face, float length, const Fibre& fibre) {
   FacePatch f;
@@ -171,10 +174,12 @@ void for_each_fibre(const World& world, std::uint32_t cell, int face, float leng
     }
     const Vec3 tip = f.at(t.tip_u, t.tip_w) +
                      cell_size * (t.length * f.outward + t.lean * along + t.lift * up);
+    Vec3 base[4];  // each corner of the base is in two sides
+    for (int e = 0; e < 4; ++e) base[e] = f.at(loop[e][0], loop[e][1]);
     for (int e = 0; e < 4; ++e) {
       const float* a = loop[e];
       const float* b = loop[(e + 1) % 4];
-      const Vec3 p[3] = {f.at(a[0], a[1]), f.at(b[0], b[1]), tip};
+      const Vec3 p[3] = {base[e], base[(e + 1) % 4], tip};
       const float uw[3][2] = {{a[0], a[1]}, {b[0], b[1]}, {t.tip_u, t.tip_w}};
       Vec3 n = (p[1] - p[0]).cross(p[2] - p[0]);
       if (!(n.norm() > 1e-20f)) continue;
@@ -184,15 +189,11 @@ void for_each_fibre(const World& world, std::uint32_t cell, int face, float leng
   }
 }
 
-// Writes fibre triangles from triangle `next` on into a mesh already grown to hold them.
-// Fibres come after the faces' triangles and are flat-shaded: fibre triangle t owns the three
-// vertices from first_vertex + 3 (t - first_triangle) on.
+// Writes fibre triangles from triangle `next` on into a mesh already grown to hold them:
+// fibre triangle t owns the three vertices from first_vertex + 3 (t - first_triangle) on.
 class FibreWriter {
  public:
-  struct Region {
-    std::size_t first_triangle, first_vertex;
-  };
-  FibreWriter(const World& world, const Region& region, std::size_t next, SurfaceMesh& mesh)
+  FibreWriter(const World& world, const FibreRegion& region, std::size_t next, SurfaceMesh& mesh)
       : world_(world), region_(region), next_(next), mesh_(mesh) {}
 
   void face(std::uint32_t cell, float opacity) {
@@ -214,7 +215,7 @@ class FibreWriter {
 
  private:
   const World& world_;
-  Region region_;
+  FibreRegion region_;
   std::size_t next_;
   SurfaceMesh& mesh_;
   std::uint32_t cell_ = 0;
@@ -223,26 +224,25 @@ class FibreWriter {
 
 }  // namespace
 
-void append_frayed_faces(const World& world, const std::vector<OpenFace>& faces, float length,
-                         const std::vector<float>& opacity, SurfaceMesh& mesh) {
-  // Two passes over fixed chunks of faces: count each chunk's fibre triangles, then write
-  // them at their place in face order. The mesh grows once, nothing is copied, and it has
-  // the same bytes on any number of threads.
-  constexpr std::size_t kChunk = 1024;
-  auto torn = [&](std::size_t i) { return faces[i].kind == FaceKind::Torn; };
-  std::vector<std::size_t> first(chunk_count(faces.size(), kChunk) + 1, 0);
-  parallel_chunks(faces.size(), kChunk, [&](std::size_t begin, std::size_t end, std::size_t c) {
+FibrePlan plan_fibres(const World& world, const std::vector<OpenFace>& faces, float length) {
+  FibrePlan plan;
+  plan.first.assign(chunk_count(faces.size(), kFaceChunk) + 1, 0);
+  parallel_chunks(faces.size(), kFaceChunk, [&](std::size_t begin, std::size_t end, std::size_t c) {
     for (std::size_t i = begin; i < end; ++i)
-      if (torn(i)) for_each_fibre(world, faces[i].cell, faces[i].face, length, [&](auto&&...) { ++first[c + 1]; });
+      if (torn(faces[i]))
+        for_each_fibre(world, faces[i].cell, faces[i].face, length, [&](auto&&...) { ++plan.first[c + 1]; });
   });
-  const FibreWriter::Region region{mesh.triangle_count(), mesh.vertex_count()};
-  first[0] = region.first_triangle;
-  for (std::size_t c = 1; c < first.size(); ++c) first[c] += first[c - 1];
-  mesh.resize(region.first_vertex + 3 * (first.back() - region.first_triangle), first.back());
-  parallel_chunks(faces.size(), kChunk, [&](std::size_t begin, std::size_t end, std::size_t c) {
-    FibreWriter write(world, region, first[c], mesh);
+  for (std::size_t c = 1; c < plan.first.size(); ++c) plan.first[c] += plan.first[c - 1];
+  return plan;
+}
+
+void write_fibres(const World& world, const std::vector<OpenFace>& faces, float length,
+                  const std::vector<float>& opacity, const FibrePlan& plan, const FibreRegion& region,
+                  SurfaceMesh& mesh) {
+  parallel_chunks(faces.size(), kFaceChunk, [&](std::size_t begin, std::size_t end, std::size_t c) {
+    FibreWriter write(world, region, region.first_triangle + plan.first[c], mesh);
     for (std::size_t i = begin; i < end; ++i) {
-      if (!torn(i)) continue;
+      if (!torn(faces[i])) continue;
       write.face(faces[i].cell, opacity[faces[i].cell]);
       for_each_fibre(world, faces[i].cell, faces[i].face, length, std::ref(write));
     }

@@ -16,11 +16,29 @@
 
 namespace papertear::render {
 
-// Appends the fibres of every torn face of `faces` (in their order) to `mesh`: flat-shaded
-// triangles with three vertices each. `length` is the longest fibre, in cell sizes;
-// `opacity` is per cell (peel.hpp). The work is shared out in fixed chunks to the threads of
-// the current arena; the mesh has the same bytes on any number of threads.
-void append_frayed_faces(const World& world, const std::vector<OpenFace>& faces, float length,
-                         const std::vector<float>& opacity, SurfaceMesh& mesh);
+// The fibres are made in two parallel passes over fixed chunks of faces, so that the mesh has
+// the same bytes on any number of threads: plan_fibres counts each chunk's fibre triangles,
+// running the whole fibre geometry (a tooth side whose normal is degenerate is left out, so
+// nothing cheaper gives the exact count); write_fibres writes them at their place in face
+// order into a mesh already sized to hold them.
+struct FibrePlan {
+  std::vector<std::size_t> first = {0};  // per chunk: fibre triangles before it; back(): all of them
+  std::size_t triangle_count() const { return first.back(); }
+};
+
+// Where the fibres go in the mesh: fibre triangles from first_triangle on, each with three
+// vertices of its own from first_vertex on (flat-shaded).
+struct FibreRegion {
+  std::size_t first_triangle = 0, first_vertex = 0;
+};
+
+// `length` is the longest fibre, in cell sizes.
+FibrePlan plan_fibres(const World& world, const std::vector<OpenFace>& faces, float length);
+
+// Writes the fibres of every torn face of `faces` (in their order); `opacity` is per cell
+// (peel.hpp), `plan` what plan_fibres gave for the same world, faces and length.
+void write_fibres(const World& world, const std::vector<OpenFace>& faces, float length,
+                  const std::vector<float>& opacity, const FibrePlan& plan, const FibreRegion& region,
+                  SurfaceMesh& mesh);
 
 }  // namespace papertear::render

@@ -82,7 +82,7 @@ class GltfBuilder {
   tinygltf::Model model_;
 };
 
-std::vector<float> flatten3(const std::vector<std::array<float, 3>>& v) {
+std::vector<float> flatten3(const MeshArray<std::array<float, 3>>& v) {
   std::vector<float> out;
   out.reserve(v.size() * 3);
   for (const auto& a : v) out.insert(out.end(), a.begin(), a.end());

@@ -17,6 +17,10 @@
 #pragma once
 #include <array>
 #include <cstdint>
+#include <memory>
+#include <new>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "core/world.hpp"
@@ -34,30 +38,55 @@ struct OpenFace {
 
 // Every surface face, in ascending (cell, face) order.
 std::vector<OpenFace> open_faces(const World& world);
+// The same in two steps: per cell, bit f set when face f is a surface face; then the list.
+std::vector<std::uint8_t> open_face_masks(const World& world);
+std::vector<OpenFace> open_faces(const World& world, const std::vector<std::uint8_t>& open);
+
+// An allocator whose resize() leaves new elements default-initialised, which for the mesh's
+// plain types means not written at all. build_surface_mesh sizes the mesh once and then its
+// parallel passes write every entry, so each page is first touched (and faulted in) by the
+// thread that fills it, rather than zeroed beforehand by one thread.
+template <class T>
+struct UninitialisedAllocator : std::allocator<T> {
+  template <class U>
+  struct rebind {
+    using other = UninitialisedAllocator<U>;
+  };
+  UninitialisedAllocator() = default;
+  template <class U>
+  UninitialisedAllocator(const UninitialisedAllocator<U>&) noexcept {}
+  template <class U>
+  void construct(U* p) noexcept(std::is_nothrow_default_constructible_v<U>) {
+    ::new (static_cast<void*>(p)) U;
+  }
+  template <class U, class... Args>
+  void construct(U* p, Args&&... args) {
+    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+  }
+};
+template <class T>
+using MeshArray = std::vector<T, UninitialisedAllocator<T>>;
 
 struct SurfaceMesh {
   // Per vertex.
-  std::vector<std::array<float, 3>> position;
-  std::vector<std::array<float, 3>> normal;
-  std::vector<std::array<float, 2>> uv;         // print coordinates, (0, 0) = the image's top left
-  std::vector<std::uint32_t> node;              // node id in this frame
-  std::vector<std::uint32_t> original_node;     // node id in the intact sheet (= lattice vertex)
+  MeshArray<std::array<float, 3>> position;
+  MeshArray<std::array<float, 3>> normal;
+  MeshArray<std::array<float, 2>> uv;         // print coordinates, (0, 0) = the image's top left
+  MeshArray<std::uint32_t> node;              // node id in this frame
+  MeshArray<std::uint32_t> original_node;     // node id in the intact sheet (= lattice vertex)
   // Per triangle (counter-clockwise seen from outside).
-  std::vector<std::array<std::uint32_t, 3>> triangles;
-  std::vector<Material> material;
-  std::vector<FaceKind> kind;
-  std::vector<std::uint32_t> cell;
-  std::vector<float> opacity;  // 1, or less for a peeled skin (peel.hpp)
-  std::vector<float> shade;    // albedo factor: fibres vary a little in brightness
+  MeshArray<std::array<std::uint32_t, 3>> triangles;
+  MeshArray<Material> material;
+  MeshArray<FaceKind> kind;
+  MeshArray<std::uint32_t> cell;
+  MeshArray<float> opacity;  // 1, or less for a peeled skin (peel.hpp)
+  MeshArray<float> shade;    // albedo factor: fibres vary a little in brightness
 
   std::size_t vertex_count() const { return position.size(); }
   std::size_t triangle_count() const { return triangles.size(); }
-  std::uint32_t add_vertex(const std::array<float, 3>& p, const std::array<float, 3>& n,
-                           const std::array<float, 2>& t, std::uint32_t node_id, std::uint32_t original);
-  void add_triangle(std::array<std::uint32_t, 3> v, Material m, FaceKind k, std::uint32_t cell_id,
-                    float alpha, float brightness);
-  // Sets every per-vertex and per-triangle array to these sizes; set_vertex and
-  // set_triangle then fill in new entries (several threads may fill disjoint ones).
+  // Sets every per-vertex and per-triangle array to these sizes; new entries are left
+  // uninitialised for set_vertex and set_triangle to fill in (several threads may fill
+  // disjoint ones), and all of them must be.
   void resize(std::size_t vertices, std::size_t triangle_slots);
   void set_vertex(std::uint32_t i, const std::array<float, 3>& p, const std::array<float, 3>& n,
                   const std::array<float, 2>& t, std::uint32_t node_id, std::uint32_t original);
