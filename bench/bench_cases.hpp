@@ -1,7 +1,8 @@
 // What every benchmark case shares: the sheet sizes and thread counts swept, the scene they
 // run, the case names, their registration and the counters. The cases themselves live in
 // step_bench.cpp (a whole RK4 step), force_bench.cpp (the fine-spring kernel alone),
-// fracture_bench.cpp, render_bench.cpp and probe_bench.cpp (the machine's ceilings).
+// fracture_bench.cpp, render_bench.cpp, probe_bench.cpp (the machine's ceilings) and
+// paired_bench.cpp (the step's ratios measured pair by pair).
 #pragma once
 #include <array>
 #include <chrono>
