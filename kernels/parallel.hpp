@@ -76,4 +76,16 @@ T deterministic_sum(std::size_t n, std::size_t chunk, const Body& partial) {
   return total;
 }
 
+// Where each fixed chunk's items go in one list: count(begin, end) says how many items chunk
+// [begin, end) of [0, n) produces (chunks counted in parallel); result[c] is the number before
+// chunk c, result.back() the total. A second pass over the same chunks writes each chunk's
+// items from result[c] on, so the list has the same order on any number of threads.
+template <class Count>
+std::vector<std::size_t> chunk_offsets(std::size_t n, std::size_t chunk, const Count& count) {
+  std::vector<std::size_t> first(chunk_count(n, chunk) + 1, 0);
+  parallel_chunks(n, chunk, [&](std::size_t b, std::size_t e, std::size_t c) { first[c + 1] = count(b, e); });
+  for (std::size_t c = 1; c < first.size(); ++c) first[c] += first[c - 1];
+  return first;
+}
+
 }  // namespace papertear

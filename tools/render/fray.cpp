@@ -226,13 +226,12 @@ class FibreWriter {
 
 FibrePlan plan_fibres(const World& world, const std::vector<OpenFace>& faces, float length) {
   FibrePlan plan;
-  plan.first.assign(chunk_count(faces.size(), kFaceChunk) + 1, 0);
-  parallel_chunks(faces.size(), kFaceChunk, [&](std::size_t begin, std::size_t end, std::size_t c) {
+  plan.first = chunk_offsets(faces.size(), kFaceChunk, [&](std::size_t begin, std::size_t end) {
+    std::size_t triangles = 0;
     for (std::size_t i = begin; i < end; ++i)
-      if (torn(faces[i]))
-        for_each_fibre(world, faces[i].cell, faces[i].face, length, [&](auto&&...) { ++plan.first[c + 1]; });
+      if (torn(faces[i])) for_each_fibre(world, faces[i].cell, faces[i].face, length, [&](auto&&...) { ++triangles; });
+    return triangles;
   });
-  for (std::size_t c = 1; c < plan.first.size(); ++c) plan.first[c] += plan.first[c - 1];
   return plan;
 }
 

@@ -87,11 +87,11 @@ std::vector<std::uint8_t> open_face_masks(const World& world) {
 std::vector<OpenFace> open_faces(const World& world, const std::vector<std::uint8_t>& open) {
   // Two passes over the same chunks: count each chunk's faces, then write them at their place.
   const LatticeDims& d = world.topo.dims;
-  std::vector<std::size_t> first(chunk_count(open.size(), kCellChunk) + 1, 0);
-  parallel_chunks(open.size(), kCellChunk, [&](std::size_t begin, std::size_t end, std::size_t chunk) {
-    for (std::size_t c = begin; c < end; ++c) first[chunk + 1] += std::size_t(std::popcount(open[c]));
+  const std::vector<std::size_t> first = chunk_offsets(open.size(), kCellChunk, [&](std::size_t begin, std::size_t end) {
+    std::size_t faces = 0;
+    for (std::size_t c = begin; c < end; ++c) faces += std::size_t(std::popcount(open[c]));
+    return faces;
   });
-  for (std::size_t c = 1; c < first.size(); ++c) first[c] += first[c - 1];
   std::vector<OpenFace> out(first.back());
   parallel_chunks(open.size(), kCellChunk, [&](std::size_t begin, std::size_t end, std::size_t chunk) {
     std::size_t next = first[chunk];

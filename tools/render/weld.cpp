@@ -161,10 +161,9 @@ Vec3f vertex_normal(const World& w, const Ring& ring, const Loop& loop, int face
 }  // namespace
 
 WeldedQuads::WeldedQuads(const World& world, const std::vector<OpenFace>& faces, const std::vector<std::uint8_t>& open)
-    : world_(world), faces_(faces), open_(open), creates_(faces.size()),
-      first_vertex_(chunk_count(faces.size(), kFaceChunk) + 1, 0) {
+    : world_(world), faces_(faces), open_(open), creates_(faces.size()) {
   const Rings rings(world, open);
-  parallel_chunks(faces.size(), kFaceChunk, [&](std::size_t begin, std::size_t end, std::size_t chunk) {
+  first_vertex_ = chunk_offsets(faces.size(), kFaceChunk, [&](std::size_t begin, std::size_t end) {
     std::size_t created = 0;
     for (std::size_t i = begin; i < end; ++i) {
       const OpenFace& f = faces[i];
@@ -175,9 +174,8 @@ WeldedQuads::WeldedQuads(const World& world, const std::vector<OpenFace>& faces,
       creates_[i] = bits;
       created += std::size_t(std::popcount(bits));
     }
-    first_vertex_[chunk + 1] = created;
+    return created;
   });
-  for (std::size_t c = 1; c < first_vertex_.size(); ++c) first_vertex_[c] += first_vertex_[c - 1];
 }
 
 void WeldedQuads::write(const std::vector<float>& opacity, SurfaceMesh& mesh) const {
