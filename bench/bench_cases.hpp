@@ -33,6 +33,9 @@ struct Case {
 // setup alone takes minutes and about 1.3 GB.
 std::vector<Case> papertear_cases();
 
+// Force evaluations in one RK4 step (its stages).
+inline constexpr double kForceEvaluationsPerStep = 4.0;
+
 // "<family>/<impl>/<nx>x<ny>x<nl>/threads:<t>", e.g. "step/papertear/90x90x5/threads:2".
 std::string case_name(const char* family, const char* impl, const Case& c);
 

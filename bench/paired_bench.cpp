@@ -25,7 +25,6 @@ namespace {
 
 constexpr int kWarmupSteps = 10;
 constexpr int kSteps = 8;  // papertear steps per thread count and iteration
-constexpr double kStagesPerStep = 4.0;
 
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
@@ -65,7 +64,7 @@ void step_paired(benchmark::State& state, Size size) {
   one.step(kWarmupSteps);
   two.step(kWarmupSteps);
   ReferenceModel reference(two.world());
-  const double springs_per_step = solver_footprint(two.world()).evaluated_springs * kStagesPerStep;
+  const double springs_per_step = solver_footprint(two.world()).evaluated_springs * kForceEvaluationsPerStep;
   tbb::task_arena probe_arena(2);
   PairedSamples s;
   for (auto _ : state) {

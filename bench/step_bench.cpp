@@ -16,7 +16,6 @@ namespace papertear::bench {
 namespace {
 
 constexpr int kWarmupSteps = 10;
-constexpr double kForceEvaluationsPerStep = 4.0;  // RK4 stages
 
 double springs_per_step(const Size& size) {
   return double(kSpringsPerCell) * double(size.cells()) * kForceEvaluationsPerStep;
