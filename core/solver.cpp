@@ -113,6 +113,9 @@ void parallel_chunks_pair(std::size_t na, std::size_t chunk_a, const BodyA& body
 struct FineStrips {
   const Topology* topo = nullptr;
   std::size_t strips = 0;
+  const std::array<std::vector<CellGroup>, 8>* plans = nullptr;  // per colour, or none
+
+  const CellGroup* plan(int colour) const { return plans ? (*plans)[std::size_t(colour)].data() : nullptr; }
 
   static std::size_t with_parity(int n, int parity) { return std::size_t((n + 1 - parity) / 2); }
 
@@ -130,8 +133,8 @@ struct FineStrips {
     for (std::size_t kk = 0; kk < with_parity(d.nl, kpar); ++kk) {
       const std::size_t r0 = kk * nj + jj0, r1 = kk * nj + jj1;
       if (r0 >= r1) continue;
-      add_cell_row_forces(r0 * even_per_row, r1 * even_per_row, even_per_row, even.data(), in, out);
-      add_cell_row_forces(r0 * odd_per_row, r1 * odd_per_row, odd_per_row, odd.data(), in, out);
+      add_cell_row_forces(r0 * even_per_row, r1 * even_per_row, even_per_row, even.data(), in, out, plan(2 * p));
+      add_cell_row_forces(r0 * odd_per_row, r1 * odd_per_row, odd_per_row, odd.data(), in, out, plan(2 * p + 1));
     }
   }
 
@@ -147,8 +150,30 @@ struct FineStrips {
   }
 };
 
-FineStrips fine_strips(const Topology& topo) {
-  return {&topo, chunk_count(std::size_t(std::max(topo.dims.ny, 0)), std::size_t(kStripRows))};
+FineStrips fine_strips(const Topology& topo, const std::array<std::vector<CellGroup>, 8>* plans = nullptr) {
+  return {&topo, chunk_count(std::size_t(std::max(topo.dims.ny, 0)), std::size_t(kStripRows)), plans};
+}
+
+// Cells per row of a colour's list: colour bit 0 is the parity of i.
+std::size_t cells_per_row(const LatticeDims& d, std::size_t colour) { return FineStrips::with_parity(d.nx, int(colour & 1)); }
+
+// Remakes the kernel's plan of every colour's vector groups, in parallel over fixed chunks
+// of rows (each group's plan depends on its own cells only).
+void plan_fine_groups(const Topology& topo, const CellForceInputs& in, std::array<std::vector<CellGroup>, 8>& plans) {
+  constexpr std::size_t kPlanRows = 64;
+  std::array<std::size_t, 9> first{};  // chunk offsets per colour
+  for (std::size_t c = 0; c < 8; ++c) {
+    const std::size_t per_row = cells_per_row(topo.dims, c), groups = cell_groups_per_row(per_row);
+    const std::size_t rows = groups == 0 ? 0 : topo.colour_cells[c].size() / per_row;
+    plans[c].resize(rows * groups);
+    first[c + 1] = first[c] + chunk_count(rows, kPlanRows);
+  }
+  parallel_chunks(first[8], 1, [&](std::size_t chunk, std::size_t, std::size_t) {
+    const std::size_t c = std::size_t(std::upper_bound(first.begin(), first.end(), chunk) - first.begin()) - 1;
+    const std::size_t per_row = cells_per_row(topo.dims, c);
+    const std::size_t rows = topo.colour_cells[c].size() / per_row, r0 = (chunk - first[c]) * kPlanRows;
+    plan_cell_rows(r0, std::min(rows, r0 + kPlanRows), per_row, topo.colour_cells[c].data(), in, plans[c].data());
+  });
 }
 
 // All fine springs and pass 1 of the block lattice (which shares the first phase's region:
@@ -162,7 +187,7 @@ void add_fine_and_block_forces(World& w, SolverScratch& scratch, const CellForce
     build_block_lattice(w.coarse, w.blocks, w.topo.dims, lattice);
     new_topology = true;
   }
-  const FineStrips strips = fine_strips(w.topo);
+  const FineStrips strips = fine_strips(w.topo, &scratch.groups);
   parallel_chunks_pair(
       strips.even_strips(), 1, [&](std::size_t t, std::size_t) { strips.run(2 * t, in, out); },
       lattice.lanes, kBlockChunk, [&](std::size_t b, std::size_t e) {
@@ -212,6 +237,7 @@ void add_fine_forces(const Topology& topo, const CellForceInputs& in, const Forc
 void evaluate_forces(World& w, SolverScratch& scratch) {
   sync_fine_springs(w, scratch);
   const CellForceInputs in = stage_inputs(w, scratch);
+  plan_fine_groups(w.topo, in, scratch.groups);
   const ForceOutputs out = force_outputs(w);
   add_fine_and_block_forces(w, scratch, in, out, true);
   const BlockLattice& lattice = scratch.lattice;
@@ -228,6 +254,7 @@ void integrate_step(World& w, SolverScratch& scratch) {
                      kNone);
   const bool new_topology = sync_fine_springs(w, scratch);
   const CellForceInputs in = stage_inputs(w, scratch);
+  if (new_topology) plan_fine_groups(w.topo, in, scratch.groups);
   const ForceOutputs out = force_outputs(w);
   // The indenter (pierce only) is where it is at each stage's time: t, t + dt/2 twice, t + dt.
   // Its push goes in first, while the force columns are still zero (the previous stage's

@@ -24,10 +24,12 @@
 // for a blow-up (non-finite or runaway state) and throws BlowUpError naming the step and node.
 // Fracture (fracture/fracture_pass.hpp) runs after the step, serially.
 #pragma once
+#include <array>
 #include <cstdint>
 #include <vector>
 
 #include "core/world.hpp"
+#include "kernels/cell_forces.hpp"
 #include "kernels/coarse_forces.hpp"
 #include "kernels/fine_springs.hpp"
 
@@ -41,6 +43,9 @@ struct SolverScratch {
   FineSprings fine;
   const std::uint32_t* fine_topology = nullptr;  // the cell table it was built for
   std::size_t fine_nodes = 0, fine_events = 0;   // node and event counts it has seen
+  // Per colour: the plan of the fine-spring kernel's vector groups (kernels/cell_forces.hpp),
+  // remade whenever `fine` changes.
+  std::array<std::vector<CellGroup>, 8> groups;
 };
 
 // Chunk sizes (elements per task). Fixed numbers, never derived from the thread count.

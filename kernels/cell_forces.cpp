@@ -16,6 +16,9 @@
 namespace papertear {
 namespace {
 
+// CellGroup::kind: the general loader, or a regular group's slot set.
+enum GroupKind : std::uint32_t { kIrregular, kScaled, kLow, kLowXSide, kLowZSide, kLowXZSide, kAll };
+
 // The springs in kSlots of W cells at once, on corner values already in registers; adds each
 // spring's force, times its lane's count (`count(slot)`, kernels/fine_springs.hpp), into the
 // corner sums f*. Every loader below feeds this one body, so a cell gets the same operations
@@ -252,92 +255,142 @@ struct RegularGroup {
   // slot set, each compiled on its own: inlined side by side into one dispatcher, the rare
   // sets' code made the common one's register allocation worse (the kernel ran ~20 % slower).
   template <std::uint32_t kSlots, bool kUnitScale>
-  [[gnu::noinline]] static void evaluate(const std::uint32_t* cells, const std::uint32_t (&base)[4],
-                                         const CellForceInputs& in, const ForceOutputs& out, int skip) {
+  [[gnu::noinline]] static void evaluate(const CellGroup& g, const CellForceInputs& in, const ForceOutputs& out,
+                                         int skip) {
     V x[8], y[8], z[8], u[8], v[8], w[8];
     const float* src[6] = {in.px, in.py, in.pz, in.vx, in.vy, in.vz};
     V* dst[6] = {x, y, z, u, v, w};
     for (int p = 0; p < 4; ++p)
-      for (int f = 0; f < 6; ++f) P::load(src[f] + base[p], dst[f][2 * p], dst[f][2 * p + 1]);
+      for (int f = 0; f < 6; ++f) P::load(src[f] + g.base[p], dst[f][2 * p], dst[f][2 * p + 1]);
     alignas(64) float scale[L];
-    for (int l = 0; l < L; ++l) scale[l] = kUnitScale ? 1.0f : in.cell_scale[cells[l]];
-    const RowCounts count{in.fine->count.data() + cells[0], in.fine->cells};
+    for (int l = 0; l < L; ++l) scale[l] = kUnitScale ? 1.0f : in.cell_scale[g.first_cell + 2 * std::uint32_t(l)];
+    const RowCounts count{in.fine->count.data() + g.first_cell, in.fine->cells};
     V fx[8], fy[8], fz[8];
     CellSprings<V>::template run<kSlots, kUnitScale>(x, y, z, u, v, w, V::load_aligned(scale), *in.table, count, fx,
                                                      fy, fz);
     float* dst_f[3] = {out.fx, out.fy, out.fz};
     const V* force[3] = {fx, fy, fz};
     for (int p = 0; p < 4; ++p)
-      for (int f = 0; f < 3; ++f) P::add(dst_f[f] + base[p], force[f][2 * p], force[f][2 * p + 1], skip);
+      for (int f = 0; f < 3; ++f) P::add(dst_f[f] + g.base[p], force[f][2 * p], force[f][2 * p + 1], skip);
   }
 
-  // Runs the springs the group's cells own, with the smallest slot set that covers them (a
-  // slot no lane owns would only add zeros): the 13 low slots for most groups, those plus the
-  // high-x or high-z side at the sheet's edges, all 28 near cracks or with stiffness factors.
-  static bool run(const std::uint32_t* cells, const CellForceInputs& in, const ForceOutputs& out,
-                  std::size_t skip = 0) {
+  // The smallest slot set that covers the springs the group's cells own (a slot no lane owns
+  // would only add zeros): the 13 low slots for most groups, those plus the high-x or high-z
+  // side at the sheet's edges, all 28 near cracks or with stiffness factors. Also the corner
+  // pairs' first nodes; kIrregular when the group needs the general loader.
+  static CellGroup plan(const std::uint32_t* cells, const CellForceInputs& in) {
+    CellGroup g{{0, 0, 0, 0}, cells[0], kIrregular};
     const std::uint32_t owned = P::or_even(in.fine->owned.data() + cells[0]);
-    std::uint32_t base[4];
-    if (!bases(cells, in.cell_nodes, owned, base)) return false;
+    if (!bases(cells, in.cell_nodes, owned, g.base)) return g;
     auto within = [owned](std::uint32_t slots) { return (owned & ~slots) == 0; };
     constexpr std::uint32_t kLowX = kLowSlots | kHighXSlots, kLowZ = kLowSlots | kHighZSlots;
     constexpr std::uint32_t kLowXZ = kLowSlots | kHighXSlots | kHighZSlots | kHighXZSlots;
+    if ((owned & kScaledCell) != 0) g.kind = kScaled;
+    else if (within(kLowSlots)) g.kind = kLow;
+    else if (within(kLowX)) g.kind = kLowXSide;
+    else if (within(kLowZ)) g.kind = kLowZSide;
+    else if (within(kLowXZ)) g.kind = kLowXZSide;
+    else g.kind = kAll;
+    return g;
+  }
+
+  // Runs a regular group as planned; false for an irregular one.
+  static bool run(const CellGroup& g, const CellForceInputs& in, const ForceOutputs& out, std::size_t skip) {
+    constexpr std::uint32_t kLowX = kLowSlots | kHighXSlots, kLowZ = kLowSlots | kHighZSlots;
+    constexpr std::uint32_t kLowXZ = kLowSlots | kHighXSlots | kHighZSlots | kHighXZSlots;
     const int sk = int(skip);
-    if ((owned & kScaledCell) != 0) evaluate<kAllSlots, false>(cells, base, in, out, sk);
-    else if (within(kLowSlots)) evaluate<kLowSlots, true>(cells, base, in, out, sk);
-    else if (within(kLowX)) evaluate<kLowX, true>(cells, base, in, out, sk);
-    else if (within(kLowZ)) evaluate<kLowZ, true>(cells, base, in, out, sk);
-    else if (within(kLowXZ)) evaluate<kLowXZ, true>(cells, base, in, out, sk);
-    else evaluate<kAllSlots, true>(cells, base, in, out, sk);
-    return true;
+    switch (g.kind) {
+      case kScaled: evaluate<kAllSlots, false>(g, in, out, sk); return true;
+      case kLow: evaluate<kLowSlots, true>(g, in, out, sk); return true;
+      case kLowXSide: evaluate<kLowX, true>(g, in, out, sk); return true;
+      case kLowZSide: evaluate<kLowZ, true>(g, in, out, sk); return true;
+      case kLowXZSide: evaluate<kLowXZ, true>(g, in, out, sk); return true;
+      case kAll: evaluate<kAllSlots, true>(g, in, out, sk); return true;
+      default: return false;
+    }
   }
 };
 #else
 using CellLane = lanes::Wide;
 #endif
 
+// How a group of W cells is run: planned from its cells (regular groups only with the
+// regular lane type; every other group takes the general loader).
+template <class V>
+CellGroup plan_group(const std::uint32_t* cells, const CellForceInputs& in) {
+#ifdef PAPERTEAR_CELL_REGULAR
+  if constexpr (std::is_same_v<V, CellLane>) return RegularGroup<CellPairs>::plan(cells, in);
+#endif
+  return {{0, 0, 0, 0}, cells[0], kIrregular};
+}
+
+// Runs W cells from `cells` as planned, adding only lanes >= skip.
+template <class V>
+void run_group(const CellGroup& plan, const std::uint32_t* cells, const CellForceInputs& in, const ForceOutputs& out,
+               std::size_t skip) {
+#ifdef PAPERTEAR_CELL_REGULAR
+  if constexpr (std::is_same_v<V, CellLane>)
+    if (RegularGroup<CellPairs>::run(plan, in, out, skip)) return;
+#endif
+  CellLanes<V>::run(cells, in, out, skip);
+}
+
+template <class V>
+void add_group(const std::uint32_t* cells, const CellForceInputs& in, const ForceOutputs& out, std::size_t skip) {
+  run_group<V>(plan_group<V>(cells, in), cells, in, out, skip);
+}
+
+// Groups of W from `begin`; the n < W cells left at the end go in one more vector group
+// whose first W - n lanes are computed but not added: the last W cells of the range (lanes
+// the group before already added), or, in a range shorter than W, copies of its first cell.
+// Why not scalar: with 16 lanes a row of a sheet narrower than 32 cells holds fewer than 16
+// cells of a colour, and one lane at a time made such sheets' fine springs ~10x slower per
+// cell. A lane gets the same operations whatever its group, so the bits are the same.
 template <class V>
 void add_forces_with(std::size_t begin, std::size_t end, const std::uint32_t* cells,
                      const CellForceInputs& in, const ForceOutputs& out) {
   constexpr std::size_t W = CellLanes<V>::W;
   std::size_t i = begin;
-  for (; i + W <= end; i += W) {
-#ifdef PAPERTEAR_CELL_REGULAR
-    if constexpr (std::is_same_v<V, CellLane>)
-      if (RegularGroup<CellPairs>::run(cells + i, in, out)) continue;
-#endif
-    CellLanes<V>::run(cells + i, in, out);
+  for (; i + W <= end; i += W) add_group<V>(cells + i, in, out, 0);
+  if (i == end) return;
+  const std::size_t skip = W - (end - i);
+  if (end - begin >= W) {
+    add_group<V>(cells + end - W, in, out, skip);
+    return;
   }
-  for (; i < end; ++i) CellLanes<float>::run(cells + i, in, out);
+  std::uint32_t padded[W];
+  for (std::size_t l = 0; l < W; ++l) padded[l] = cells[l < skip ? begin : begin + l - skip];
+  add_group<V>(padded, in, out, skip);
 }
 
-// W cells from `cells`, adding only lanes >= skip.
-template <class V>
-void add_group(const std::uint32_t* cells, const CellForceInputs& in, const ForceOutputs& out, std::size_t skip) {
-#ifdef PAPERTEAR_CELL_REGULAR
-  if constexpr (std::is_same_v<V, CellLane>)
-    if (RegularGroup<CellPairs>::run(cells, in, out, skip)) return;
-#endif
-  CellLanes<V>::run(cells, in, out, skip);
+// Group g of a row of per_row >= W cells: groups of W from the row's start, and a row whose
+// length is not a multiple of W ends with a group overlapping the one before it, whose
+// already-done lanes are computed but not added. So no group straddles a row end and every
+// group can be regular.
+struct RowGroup {
+  std::size_t offset, skip;
+};
+RowGroup row_group(std::size_t per_row, std::size_t g, std::size_t W) {
+  const std::size_t start = g * W;
+  return start + W <= per_row ? RowGroup{start, 0} : RowGroup{per_row - W, start + W - per_row};
 }
 
-// Row by row: groups of W from each row's start, and a row whose length is not a multiple of
-// W ends with a group overlapping the one before it, whose already-done lanes are computed
-// but not added. So no group straddles a row end and every group can be regular.
 template <class V>
 void add_rows_with(std::size_t begin, std::size_t end, std::size_t per_row, const std::uint32_t* cells,
-                   const CellForceInputs& in, const ForceOutputs& out) {
+                   const CellForceInputs& in, const ForceOutputs& out, const CellGroup* plan) {
   constexpr std::size_t W = CellLanes<V>::W;
   if (per_row < W) {
     add_forces_with<V>(begin, end, cells, in, out);
     return;
   }
-  for (std::size_t row = begin; row < end; row += per_row) {
-    const std::size_t row_end = row + per_row;
-    std::size_t i = row;
-    for (; i + W <= row_end; i += W) add_group<V>(cells + i, in, out, 0);
-    if (i < row_end) add_group<V>(cells + row_end - W, in, out, W - (row_end - i));
-  }
+  const std::size_t groups = cell_groups_per_row(per_row);
+  for (std::size_t row = begin; row < end; row += per_row)
+    for (std::size_t g = 0; g < groups; ++g) {
+      const RowGroup at = row_group(per_row, g, W);
+      const std::uint32_t* group = cells + row + at.offset;
+      if (plan != nullptr) run_group<V>(plan[row / per_row * groups + g], group, in, out, at.skip);
+      else add_group<V>(group, in, out, at.skip);
+    }
 }
 
 }  // namespace
@@ -357,9 +410,23 @@ void add_cell_forces(std::size_t begin, std::size_t end, const std::uint32_t* ce
 }
 
 void add_cell_row_forces(std::size_t begin, std::size_t end, std::size_t per_row, const std::uint32_t* cells,
-                         const CellForceInputs& in, const ForceOutputs& out) {
+                         const CellForceInputs& in, const ForceOutputs& out, const CellGroup* plan) {
   const FlushSubnormals flush;
-  add_rows_with<CellLane>(begin, end, per_row, cells, in, out);
+  add_rows_with<CellLane>(begin, end, per_row, cells, in, out, plan);
+}
+
+std::size_t cell_groups_per_row(std::size_t per_row) {
+  constexpr std::size_t W = CellLanes<CellLane>::W;
+  return per_row < W ? 0 : (per_row + W - 1) / W;
+}
+
+void plan_cell_rows(std::size_t row_begin, std::size_t row_end, std::size_t per_row, const std::uint32_t* cells,
+                    const CellForceInputs& in, CellGroup* plan) {
+  constexpr std::size_t W = CellLanes<CellLane>::W;
+  const std::size_t groups = cell_groups_per_row(per_row);
+  for (std::size_t row = row_begin; row < row_end; ++row)
+    for (std::size_t g = 0; g < groups; ++g)
+      plan[row * groups + g] = plan_group<CellLane>(cells + row * per_row + row_group(per_row, g, W).offset, in);
 }
 
 void add_cell_forces_scalar(std::size_t begin, std::size_t end, const std::uint32_t* cells,

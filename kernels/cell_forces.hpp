@@ -69,13 +69,33 @@ struct ForceOutputs {
   float *fx, *fy, *fz;
 };
 
+// How the kernel runs one vector group of cells: which loader and which slot set, and for a
+// regular group its corner pairs' first nodes. Deciding it reads the cells' merged-spring
+// masks and corner rows, about 5 cache lines per group; a plan made once while the topology
+// holds still (core/solver.cpp replans after each step that split nodes) saves that in
+// every stage. A plan is valid only for the cell table and merged-spring table it was made
+// from.
+struct CellGroup {
+  std::uint32_t base[4];      // regular groups: the first node of each corner pair (dy, dz)
+  std::uint32_t first_cell;
+  std::uint32_t kind;         // kernels/cell_forces.cpp
+};
+
 // Adds the spring forces of cells[begin, end) into out. All cells must share a colour.
 void add_cell_forces(std::size_t begin, std::size_t end, const std::uint32_t* cells,
                      const CellForceInputs& in, const ForceOutputs& out);
 // The same for cells[begin, end) that are whole rows of per_row cells each (begin and end
 // multiples of per_row), with no vector group straddling a row end: the same bits, faster.
+// With a plan (plan_cell_rows over the same list, from group 0) the groups run as planned.
 void add_cell_row_forces(std::size_t begin, std::size_t end, std::size_t per_row, const std::uint32_t* cells,
-                         const CellForceInputs& in, const ForceOutputs& out);
+                         const CellForceInputs& in, const ForceOutputs& out, const CellGroup* plan = nullptr);
+// Vector groups per row of per_row cells in add_cell_row_forces; 0 for rows shorter than a
+// vector, which are never planned.
+std::size_t cell_groups_per_row(std::size_t per_row);
+// Plans the groups of list rows [row_begin, row_end) of `cells` (rows of per_row cells) into
+// plan[row * cell_groups_per_row(per_row) + g].
+void plan_cell_rows(std::size_t row_begin, std::size_t row_end, std::size_t per_row, const std::uint32_t* cells,
+                    const CellForceInputs& in, CellGroup* plan);
 // The same as add_cell_forces with the scalar lane type only (for tests and the SIMD-off comparison).
 void add_cell_forces_scalar(std::size_t begin, std::size_t end, const std::uint32_t* cells,
                             const CellForceInputs& in, const ForceOutputs& out);

@@ -352,7 +352,8 @@ TEST_CASE("vector and scalar cell kernels give the same bits", "[reference]") {
   CHECK(same_bits(wide.y, scalar.y));
   CHECK(same_bits(wide.z, scalar.z));
 
-  // A range that starts and ends off the vector width exercises the scalar tail too.
+  // A range that starts and ends off the vector width ends with a group overlapping the one
+  // before it; a range shorter than the width is one padded group.
   const auto& list = w.topo.colour_cells[0];
   REQUIRE(list.size() >= 3);
   Forces a(w.nodes.count), b(w.nodes.count);
@@ -363,4 +364,11 @@ TEST_CASE("vector and scalar cell kernels give the same bits", "[reference]") {
   CHECK(same_bits(a.x, b.x));
   CHECK(same_bits(a.y, b.y));
   CHECK(same_bits(a.z, b.z));
+  Forces c(w.nodes.count), d(w.nodes.count);
+  pt::add_cell_forces(1, 4, list.data(), in, c.outputs());
+  pt::add_cell_forces_scalar(1, 4, list.data(), in, d.outputs());
+  CHECK(same_bits(c.x, d.x));
+  CHECK(same_bits(c.y, d.y));
+  CHECK(same_bits(c.z, d.z));
+  CHECK(*std::max_element(c.x.begin(), c.x.end()) > 1e-3f);  // the three cells' springs are loaded
 }
