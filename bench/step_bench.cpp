@@ -2,6 +2,11 @@
 // one step of the plain double-precision ReferenceModel (kernels/reference.hpp) on the same
 // world, so the two can be compared case by case.
 //
+// step/torn/90x90x5/threads:<t> is the same papertear step on the default scene (the
+// paper's experiment) after it has torn in two (from step kTornAt on): the state a run
+// spends its second half in, with a damage zone of split nodes that the quiet sheet of the
+// other cases does not have.
+//
 // Each papertear case first runs a fixed number of untimed steps from the scene and puts the
 // digest after them in the label: the same label on 1 and 2 threads shows the run is
 // deterministic as well as fast.
@@ -21,9 +26,9 @@ double springs_per_step(const Size& size) {
   return double(kSpringsPerCell) * double(size.cells()) * kForceEvaluationsPerStep;
 }
 
-std::string digest_label(std::uint64_t digest) {
+std::string digest_label(std::int64_t step, std::uint64_t digest) {
   char text[48];
-  std::snprintf(text, sizeof text, "digest@%d=%016llx", kWarmupSteps,
+  std::snprintf(text, sizeof text, "digest@%lld=%016llx", static_cast<long long>(step),
                 static_cast<unsigned long long>(digest));
   return text;
 }
@@ -31,7 +36,7 @@ std::string digest_label(std::uint64_t digest) {
 void step_papertear(benchmark::State& state, Case c) {
   Simulation sim(quiet_pull_scene(c.size), {.threads = c.threads});
   sim.step(kWarmupSteps);
-  state.SetLabel(digest_label(sim.digest()));
+  state.SetLabel(digest_label(sim.steps_done(), sim.digest()));
   double seconds = 0.0;
   for (auto _ : state) {
     const double t = timed([&] { sim.step(1); });
@@ -43,6 +48,35 @@ void step_papertear(benchmark::State& state, Case c) {
   state.counters["bytes_per_cell"] = footprint.bytes_per_cell;
   state.counters["block_springs"] = double(sim.world().coarse.size());
   state.counters["evaluated_springs"] = footprint.evaluated_springs;
+}
+
+// The default scene tears between steps ~360 and ~800 of its 1200.
+constexpr int kTornAt = 800;
+
+// The default scene at step kTornAt, made once per process (a few seconds).
+const World& torn_default_scene() {
+  static const World world = [] {
+    Simulation sim(Scene{}, {.threads = 2});
+    sim.step(kTornAt);
+    return sim.world();
+  }();
+  return world;
+}
+
+// One untimed step first: a copied world's solver tables are built on its first step.
+void step_torn(benchmark::State& state, int threads) {
+  Simulation sim(torn_default_scene(), {.threads = threads});
+  sim.step(1);
+  state.SetLabel(digest_label(sim.steps_done(), sim.digest()));
+  const Size size{90, 90, 5};
+  double seconds = 0.0;
+  for (auto _ : state) {
+    const double t = timed([&] { sim.step(1); });
+    state.SetIterationTime(t);
+    seconds += t;
+  }
+  set_throughput_counters(state, size, springs_per_step(size), seconds, "ns_per_cell_step");
+  state.counters["split_nodes"] = double(sim.world().nodes.count - std::size_t(sim.world().topo.dims.vertices()));
 }
 
 void step_reference(benchmark::State& state, Case c) {
@@ -64,6 +98,8 @@ void register_step_benchmarks() {
   for (const Case& c : papertear_cases()) {
     register_timed(case_name("step", "papertear", c), benchmark::kMillisecond, step_papertear, c);
   }
+  for (int threads : {1, 2})
+    register_timed("step/torn/90x90x5/threads:" + std::to_string(threads), benchmark::kMillisecond, step_torn, threads);
   // The reference is serial: one case per size.
   for (const Case& c : papertear_cases()) {
     if (c.threads != 1) continue;

@@ -172,7 +172,8 @@ void plan_fine_groups(const Topology& topo, const CellForceInputs& in, std::arra
     const std::size_t c = std::size_t(std::upper_bound(first.begin(), first.end(), chunk) - first.begin()) - 1;
     const std::size_t per_row = cells_per_row(topo.dims, c);
     const std::size_t rows = topo.colour_cells[c].size() / per_row, r0 = (chunk - first[c]) * kPlanRows;
-    plan_cell_rows(r0, std::min(rows, r0 + kPlanRows), per_row, topo.colour_cells[c].data(), in, plans[c].data());
+    plan_cell_rows(r0, std::min(rows, r0 + kPlanRows), per_row, topo.colour_cells[c].data(), topo.dims, in,
+                   plans[c].data());
   });
 }
 

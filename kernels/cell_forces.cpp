@@ -1,5 +1,7 @@
 #include "kernels/cell_forces.hpp"
 
+#include <array>
+#include <bit>
 #include <type_traits>
 #include <utility>
 
@@ -18,6 +20,7 @@ namespace {
 
 // CellGroup::kind: the general loader, or a regular group's slot set.
 enum GroupKind : std::uint32_t { kIrregular, kScaled, kLow, kLowXSide, kLowZSide, kLowXZSide, kAll };
+constexpr std::uint32_t kPatchedGroup = 1u << 8;  // or'ed into a regular kind: see RegularGroup::plan
 
 // The springs in kSlots of W cells at once, on corner values already in registers; adds each
 // spring's force, times its lane's count (`count(slot)`, kernels/fine_springs.hpp), into the
@@ -113,6 +116,22 @@ struct CellLanes {
 #if !defined(PAPERTEAR_NO_SIMD) && XSIMD_WITH_AVX2
 #define PAPERTEAR_CELL_REGULAR 1
 
+// The nodes of a run of corner pairs a regular group adds to: node 2l (lane l's dx = 0
+// corner) and 2l + 1 (its dx = 1 corner). Bit t of the result is set when node t gets its
+// addition: lanes below `skip` are left out, and so are the corners in `drop_even`/`drop_odd`
+// (lane masks of corners whose node is a split copy elsewhere).
+inline unsigned spread_bits(unsigned x) {  // bit l -> bit 2l, for 16 bits
+  x = (x | (x << 8)) & 0x00FF00FFu;
+  x = (x | (x << 4)) & 0x0F0F0F0Fu;
+  x = (x | (x << 2)) & 0x33333333u;
+  return (x | (x << 1)) & 0x55555555u;
+}
+inline unsigned node_keep_mask(int skip, unsigned drop_even, unsigned drop_odd) {
+  const unsigned first = 2u * unsigned(skip);
+  const unsigned from_skip = first >= 32 ? 0u : ~0u << first;
+  return from_skip & ~(spread_bits(drop_even) | (spread_bits(drop_odd) << 1));
+}
+
 // The lane type of regular groups and how it fetches and returns pairs of consecutive nodes.
 // AVX-512 takes 16 cells per vector, AVX2 8. With 28 springs per cell 8 lanes had measured
 // faster (48 corner values and 24 sums spill either way); with the 13 merged springs the
@@ -130,21 +149,30 @@ struct Pairs8 {
     odd = _mm256_castpd_ps(_mm256_permute4x64_pd(_mm256_castps_pd(_mm256_shuffle_ps(lo, hi, 0xDD)), 0xD8));
   }
 
-  // dst[base + 2l] += even[l], dst[base + 2l + 1] += odd[l] for lanes l >= skip; the other
-  // lanes' nodes keep their bits (a blend).
-  static void add(float* p, const V& even, const V& odd, int skip) {
+  // dst[base + 2l] += even[l], dst[base + 2l + 1] += odd[l] for lanes l >= skip whose bit is
+  // clear in drop_even (drop_odd); the other nodes keep their bits (a blend).
+  static void add(float* p, const V& even, const V& odd, int skip, unsigned drop_even = 0, unsigned drop_odd = 0) {
     const __m256 a = _mm256_unpacklo_ps(even, odd), b = _mm256_unpackhi_ps(even, odd);
     const __m256 old_lo = _mm256_loadu_ps(p), old_hi = _mm256_loadu_ps(p + 8);
     __m256 new_lo = _mm256_add_ps(old_lo, _mm256_permute2f128_ps(a, b, 0x20));
     __m256 new_hi = _mm256_add_ps(old_hi, _mm256_permute2f128_ps(a, b, 0x31));
-    if (skip != 0) {
-      const __m256i lane_lo = _mm256_setr_epi32(0, 0, 1, 1, 2, 2, 3, 3), lane_hi = _mm256_setr_epi32(4, 4, 5, 5, 6, 6, 7, 7);
-      const __m256i first = _mm256_set1_epi32(skip - 1);
-      new_lo = _mm256_blendv_ps(old_lo, new_lo, _mm256_castsi256_ps(_mm256_cmpgt_epi32(lane_lo, first)));
-      new_hi = _mm256_blendv_ps(old_hi, new_hi, _mm256_castsi256_ps(_mm256_cmpgt_epi32(lane_hi, first)));
+    const unsigned keep = node_keep_mask(skip, drop_even, drop_odd) & 0xFFFFu;
+    if (keep != 0xFFFFu) {
+      const __m256i bit = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+      const auto select = [&](unsigned bits) {
+        return _mm256_castsi256_ps(_mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(int(bits)), bit), bit));
+      };
+      new_lo = _mm256_blendv_ps(old_lo, new_lo, select(keep & 0xFFu));
+      new_hi = _mm256_blendv_ps(old_hi, new_hi, select(keep >> 8));
     }
     _mm256_storeu_ps(p, new_lo);
     _mm256_storeu_ps(p + 8, new_hi);
+  }
+
+  // `v` with lane l set to `value`.
+  static V insert(const V& v, int l, float value) {
+    const __m256i lane = _mm256_set1_epi32(l), ids = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+    return _mm256_blendv_ps(v, _mm256_set1_ps(value), _mm256_castsi256_ps(_mm256_cmpeq_epi32(ids, lane)));
   }
 
   // Bytes first[2l], widened to floats.
@@ -182,16 +210,18 @@ struct Pairs16 {
     odd = _mm512_permutex2var_ps(lo, _mm512_add_epi32(e, _mm512_set1_epi32(1)), hi);
   }
 
-  static void add(float* p, const V& even, const V& odd, int skip) {
+  static void add(float* p, const V& even, const V& odd, int skip, unsigned drop_even = 0, unsigned drop_odd = 0) {
     const __m512i lo_idx = _mm512_setr_epi32(0, 16, 1, 17, 2, 18, 3, 19, 4, 20, 5, 21, 6, 22, 7, 23);
     const __m512 a = _mm512_permutex2var_ps(even, lo_idx, odd);
     const __m512 b = _mm512_permutex2var_ps(even, _mm512_add_epi32(lo_idx, _mm512_set1_epi32(8)), odd);
-    // Nodes 2l and 2l + 1 belong to lane l: keep the first 2 * skip nodes as they are.
-    const unsigned first = 2u * unsigned(skip);
-    const __mmask16 keep_a = first >= 16 ? 0 : __mmask16(0xFFFFu << first);
-    const __mmask16 keep_b = first <= 16 ? 0xFFFF : __mmask16(0xFFFFu << (first - 16));
-    _mm512_mask_storeu_ps(p, keep_a, _mm512_add_ps(_mm512_loadu_ps(p), a));
-    _mm512_mask_storeu_ps(p + 16, keep_b, _mm512_add_ps(_mm512_loadu_ps(p + 16), b));
+    // Nodes 2l and 2l + 1 belong to lane l.
+    const unsigned keep = node_keep_mask(skip, drop_even, drop_odd);
+    _mm512_mask_storeu_ps(p, __mmask16(keep), _mm512_add_ps(_mm512_loadu_ps(p), a));
+    _mm512_mask_storeu_ps(p + 16, __mmask16(keep >> 16), _mm512_add_ps(_mm512_loadu_ps(p + 16), b));
+  }
+
+  static V insert(const V& v, int l, float value) {
+    return _mm512_mask_broadcastss_ps(v, __mmask16(1u << l), _mm_set_ss(value));
   }
 
   static V even_bytes(const std::uint8_t* first) {
@@ -254,7 +284,10 @@ struct RegularGroup {
   // Loads the corners, runs the springs in kSlots and adds the forces back. One function per
   // slot set, each compiled on its own: inlined side by side into one dispatcher, the rare
   // sets' code made the common one's register allocation worse (the kernel ran ~20 % slower).
-  template <std::uint32_t kSlots, bool kUnitScale>
+  // kPatched: the corners in g.patch are split copies, fetched and returned one lane at a
+  // time on top of the pair loads and stores, which leave them out (~10 of a group's 128
+  // corners: single-lane inserts measured cheaper than 16-lane gathers and scatters).
+  template <std::uint32_t kSlots, bool kUnitScale, bool kPatched>
   [[gnu::noinline]] static void evaluate(const CellGroup& g, const CellForceInputs& in, const ForceOutputs& out,
                                          int skip) {
     V x[8], y[8], z[8], u[8], v[8], w[8];
@@ -262,6 +295,13 @@ struct RegularGroup {
     V* dst[6] = {x, y, z, u, v, w};
     for (int p = 0; p < 4; ++p)
       for (int f = 0; f < 6; ++f) P::load(src[f] + g.base[p], dst[f][2 * p], dst[f][2 * p + 1]);
+    if constexpr (kPatched)
+      for (int q = 0; q < 8; ++q)
+        for (unsigned lanes = g.patch[q]; lanes != 0; lanes &= lanes - 1) {
+          const int l = std::countr_zero(lanes);
+          const std::uint32_t node = patched_node(g, in.cell_nodes, l, q);
+          for (int f = 0; f < 6; ++f) dst[f][q] = P::insert(dst[f][q], l, src[f][node]);
+        }
     alignas(64) float scale[L];
     for (int l = 0; l < L; ++l) scale[l] = kUnitScale ? 1.0f : in.cell_scale[g.first_cell + 2 * std::uint32_t(l)];
     const RowCounts count{in.fine->count.data() + g.first_cell, in.fine->cells};
@@ -271,17 +311,53 @@ struct RegularGroup {
     float* dst_f[3] = {out.fx, out.fy, out.fz};
     const V* force[3] = {fx, fy, fz};
     for (int p = 0; p < 4; ++p)
-      for (int f = 0; f < 3; ++f) P::add(dst_f[f] + g.base[p], force[f][2 * p], force[f][2 * p + 1], skip);
+      for (int f = 0; f < 3; ++f)
+        P::add(dst_f[f] + g.base[p], force[f][2 * p], force[f][2 * p + 1], skip, kPatched ? g.patch[2 * p] : 0u,
+               kPatched ? g.patch[2 * p + 1] : 0u);
+    if constexpr (kPatched)
+      for (int q = 0; q < 8; ++q) {
+        const unsigned lanes = g.patch[q] & (~0u << skip);
+        if (lanes == 0) continue;
+        alignas(64) float f_lanes[3][L];
+        for (int f = 0; f < 3; ++f) force[f][q].store_aligned(f_lanes[f]);
+        for (unsigned left = lanes; left != 0; left &= left - 1) {
+          const int l = std::countr_zero(left);
+          const std::uint32_t node = patched_node(g, in.cell_nodes, l, q);
+          for (int f = 0; f < 3; ++f) dst_f[f][node] += f_lanes[f][l];
+        }
+      }
+  }
+
+  // The node at corner q of lane l's cell (a patched corner's split copy).
+  static std::uint32_t patched_node(const CellGroup& g, const std::uint32_t* cell_nodes, int l, int q) {
+    return cell_nodes[(std::size_t(g.first_cell) + 2 * std::size_t(l)) * 8 + std::size_t(q)];
   }
 
   // The smallest slot set that covers the springs the group's cells own (a slot no lane owns
   // would only add zeros): the 13 low slots for most groups, those plus the high-x or high-z
   // side at the sheet's edges, all 28 near cracks or with stiffness factors. Also the corner
-  // pairs' first nodes; kIrregular when the group needs the general loader.
-  static CellGroup plan(const std::uint32_t* cells, const CellForceInputs& in) {
-    CellGroup g{{0, 0, 0, 0}, cells[0], kIrregular};
+  // pairs' first nodes; kIrregular when the group needs the general loader. With the lattice
+  // dimensions a group with split copies among its corners is still planned as regular, its
+  // corner pairs' first nodes those of the lattice vertices, and patched where a corner's node
+  // is not its vertex's: after a tear most groups have a few such corners (~10 of 128 in the
+  // default scene's damage zone), and the general loader made them ~3x a regular group.
+  static CellGroup plan(const std::uint32_t* cells, const CellForceInputs& in, const LatticeDims* dims) {
+    CellGroup g{{0, 0, 0, 0}, cells[0], kIrregular, {}};
     const std::uint32_t owned = P::or_even(in.fine->owned.data() + cells[0]);
-    if (!bases(cells, in.cell_nodes, owned, g.base)) return g;
+    bool patched = false;
+    if ((owned & kSplitCorner) == 0) {
+      if (!bases(cells, in.cell_nodes, owned, g.base)) return g;
+    } else {
+      if (dims == nullptr || !P::stride_two(cells)) return g;
+      const std::array<int, 3> ijk = dims->cell_ijk(cells[0]);
+      if (ijk[0] + 2 * (L - 1) >= dims->nx) return g;  // not within one row
+      for (int p = 0; p < 4; ++p) g.base[p] = dims->vertex_index(ijk[0], ijk[1] + (p & 1), ijk[2] + (p >> 1));
+      for (int l = 0; l < L; ++l)
+        for (int q = 0; q < 8; ++q)
+          if (in.cell_nodes[std::size_t(cells[l]) * 8 + std::size_t(q)] != g.base[q >> 1] + 2u * unsigned(l) + unsigned(q & 1))
+            g.patch[q] = std::uint16_t(g.patch[q] | (1u << l));
+      patched = true;
+    }
     auto within = [owned](std::uint32_t slots) { return (owned & ~slots) == 0; };
     constexpr std::uint32_t kLowX = kLowSlots | kHighXSlots, kLowZ = kLowSlots | kHighZSlots;
     constexpr std::uint32_t kLowXZ = kLowSlots | kHighXSlots | kHighZSlots | kHighXZSlots;
@@ -291,7 +367,14 @@ struct RegularGroup {
     else if (within(kLowZ)) g.kind = kLowZSide;
     else if (within(kLowXZ)) g.kind = kLowXZSide;
     else g.kind = kAll;
+    if (patched) g.kind |= kPatchedGroup;
     return g;
+  }
+
+  template <std::uint32_t kSlots, bool kUnitScale>
+  static void evaluate_as_planned(const CellGroup& g, const CellForceInputs& in, const ForceOutputs& out, int skip) {
+    if ((g.kind & kPatchedGroup) != 0) evaluate<kSlots, kUnitScale, true>(g, in, out, skip);
+    else evaluate<kSlots, kUnitScale, false>(g, in, out, skip);
   }
 
   // Runs a regular group as planned; false for an irregular one.
@@ -299,13 +382,13 @@ struct RegularGroup {
     constexpr std::uint32_t kLowX = kLowSlots | kHighXSlots, kLowZ = kLowSlots | kHighZSlots;
     constexpr std::uint32_t kLowXZ = kLowSlots | kHighXSlots | kHighZSlots | kHighXZSlots;
     const int sk = int(skip);
-    switch (g.kind) {
-      case kScaled: evaluate<kAllSlots, false>(g, in, out, sk); return true;
-      case kLow: evaluate<kLowSlots, true>(g, in, out, sk); return true;
-      case kLowXSide: evaluate<kLowX, true>(g, in, out, sk); return true;
-      case kLowZSide: evaluate<kLowZ, true>(g, in, out, sk); return true;
-      case kLowXZSide: evaluate<kLowXZ, true>(g, in, out, sk); return true;
-      case kAll: evaluate<kAllSlots, true>(g, in, out, sk); return true;
+    switch (g.kind & ~kPatchedGroup) {
+      case kScaled: evaluate_as_planned<kAllSlots, false>(g, in, out, sk); return true;
+      case kLow: evaluate_as_planned<kLowSlots, true>(g, in, out, sk); return true;
+      case kLowXSide: evaluate_as_planned<kLowX, true>(g, in, out, sk); return true;
+      case kLowZSide: evaluate_as_planned<kLowZ, true>(g, in, out, sk); return true;
+      case kLowXZSide: evaluate_as_planned<kLowXZ, true>(g, in, out, sk); return true;
+      case kAll: evaluate_as_planned<kAllSlots, true>(g, in, out, sk); return true;
       default: return false;
     }
   }
@@ -317,11 +400,12 @@ using CellLane = lanes::Wide;
 // How a group of W cells is run: planned from its cells (regular groups only with the
 // regular lane type; every other group takes the general loader).
 template <class V>
-CellGroup plan_group(const std::uint32_t* cells, const CellForceInputs& in) {
+CellGroup plan_group(const std::uint32_t* cells, const CellForceInputs& in, const LatticeDims* dims = nullptr) {
 #ifdef PAPERTEAR_CELL_REGULAR
-  if constexpr (std::is_same_v<V, CellLane>) return RegularGroup<CellPairs>::plan(cells, in);
+  if constexpr (std::is_same_v<V, CellLane>) return RegularGroup<CellPairs>::plan(cells, in, dims);
 #endif
-  return {{0, 0, 0, 0}, cells[0], kIrregular};
+  (void)dims;
+  return {{0, 0, 0, 0}, cells[0], kIrregular, {}};
 }
 
 // Runs W cells from `cells` as planned, adding only lanes >= skip.
@@ -421,12 +505,12 @@ std::size_t cell_groups_per_row(std::size_t per_row) {
 }
 
 void plan_cell_rows(std::size_t row_begin, std::size_t row_end, std::size_t per_row, const std::uint32_t* cells,
-                    const CellForceInputs& in, CellGroup* plan) {
+                    const LatticeDims& dims, const CellForceInputs& in, CellGroup* plan) {
   constexpr std::size_t W = CellLanes<CellLane>::W;
   const std::size_t groups = cell_groups_per_row(per_row);
   for (std::size_t row = row_begin; row < row_end; ++row)
     for (std::size_t g = 0; g < groups; ++g)
-      plan[row * groups + g] = plan_group<CellLane>(cells + row * per_row + row_group(per_row, g, W).offset, in);
+      plan[row * groups + g] = plan_group<CellLane>(cells + row * per_row + row_group(per_row, g, W).offset, in, &dims);
 }
 
 void add_cell_forces_scalar(std::size_t begin, std::size_t end, const std::uint32_t* cells,

@@ -79,6 +79,7 @@ struct CellGroup {
   std::uint32_t base[4];      // regular groups: the first node of each corner pair (dy, dz)
   std::uint32_t first_cell;
   std::uint32_t kind;         // kernels/cell_forces.cpp
+  std::uint16_t patch[8];     // per corner: the lanes whose node there is a split copy
 };
 
 // Adds the spring forces of cells[begin, end) into out. All cells must share a colour.
@@ -95,7 +96,7 @@ std::size_t cell_groups_per_row(std::size_t per_row);
 // Plans the groups of list rows [row_begin, row_end) of `cells` (rows of per_row cells) into
 // plan[row * cell_groups_per_row(per_row) + g].
 void plan_cell_rows(std::size_t row_begin, std::size_t row_end, std::size_t per_row, const std::uint32_t* cells,
-                    const CellForceInputs& in, CellGroup* plan);
+                    const LatticeDims& dims, const CellForceInputs& in, CellGroup* plan);
 // The same as add_cell_forces with the scalar lane type only (for tests and the SIMD-off comparison).
 void add_cell_forces_scalar(std::size_t begin, std::size_t end, const std::uint32_t* cells,
                             const CellForceInputs& in, const ForceOutputs& out);

@@ -243,6 +243,43 @@ TEST_CASE("the solver's strips of rows add the same bits as one pass per colour 
   }
 }
 
+TEST_CASE("planned vector groups, split copies patched in, add the same bits as the scalar kernel", "[reference]") {
+  // 37 cells per row: 19 and 18 per colour, whole vector groups and an overlapping last one.
+  // Splits all over the sheet leave most groups with a few corners whose node is a split copy:
+  // planned with the lattice's dimensions, such groups still load their corner pairs as
+  // vectors and fetch and return those corners one lane at a time.
+  const bool random_scales = GENERATE(true, false);
+  INFO("random stiffness factors: " << random_scales);
+  pt::Scene scene = small_pull_scene();
+  scene.sheet.cells = {37, 6, 3};
+  pt::World w = perturbed_world(scene, 47, 0.1f, 0.05f, random_scales);
+  const pt::LatticeDims& d = w.topo.dims;
+  for (int i = 1; i < d.nx; i += 3)
+    for (int j = 1; j < d.ny; j += 2)
+      REQUIRE(pt::split_node(w, pt::NodeId(d.vertex_index(i, j, 1 + (i + j) % 2)), (i + j) % 3, j % 2).valid());
+  pt::FineSprings fine;
+  const pt::CellForceInputs in = cell_inputs(w, fine);
+  Forces planned(w.nodes.count), scalar(w.nodes.count);
+  std::size_t patched = 0;
+  for (std::size_t c = 0; c < 8; ++c) {
+    const std::vector<std::uint32_t>& list = w.topo.colour_cells[c];
+    const std::size_t per_row = std::size_t(d.nx + 1 - int(c & 1)) / 2, rows = list.size() / per_row;
+    std::vector<pt::CellGroup> plan(rows * pt::cell_groups_per_row(per_row));
+    pt::plan_cell_rows(0, rows, per_row, list.data(), d, in, plan.data());
+    for (const pt::CellGroup& g : plan)
+      patched += std::any_of(std::begin(g.patch), std::end(g.patch), [](std::uint16_t m) { return m != 0; }) ? 1 : 0;
+    pt::add_cell_row_forces(0, list.size(), per_row, list.data(), in, planned.outputs(), plan.data());
+    pt::add_cell_forces_scalar(0, list.size(), list.data(), in, scalar.outputs());
+  }
+  CHECK(same_bits(planned.x, scalar.x));
+  CHECK(same_bits(planned.y, scalar.y));
+  CHECK(same_bits(planned.z, scalar.z));
+  CHECK(*std::max_element(planned.x.begin(), planned.x.end()) > 1e-3f);  // the springs are loaded
+#if !defined(PAPERTEAR_NO_SIMD) && defined(__AVX2__)
+  CHECK(patched > 0);  // the builds with regular vector groups do patch
+#endif
+}
+
 TEST_CASE("many strips of rows: the same bits on any thread count, colour-pass sums within rounding", "[reference]") {
   // Rows of vertices between strips get the lower strip's terms first, then the upper's: a
   // fixed order, but not the colour order, so only rounding may differ from the colour pass.
