@@ -23,12 +23,64 @@ CellForceInputs stage_inputs(const World& w, const SolverScratch& scratch) {
           w.topo.cell_scale.data(), &w.springs, &scratch.fine};
 }
 
-// Brings the merged fine springs up to date with the topology. Fracture records every split
-// as an event and adds one node per split, so when the counts agree only the cells around
-// the new events' vertices can have changed; anything else (a new world, splits made
-// outside the fracture pass) rebuilds the table. Returns false when nothing had changed
-// since the last call (no split: the block lattice's refresh can be skipped too, since a
-// block is entered only by a split).
+// Values of 0..n-1 with the given parity.
+std::size_t with_parity(int n, int parity) { return std::size_t((n + 1 - parity) / 2); }
+
+// Cells per row of a colour's list: colour bit 0 is the parity of i.
+std::size_t cells_per_row(const LatticeDims& d, std::size_t colour) { return with_parity(d.nx, int(colour & 1)); }
+
+// Remakes the kernel's plan of every colour's vector groups, in parallel over fixed chunks
+// of rows (each group's plan depends on its own cells only).
+void plan_fine_groups(const Topology& topo, const CellForceInputs& in, std::array<std::vector<CellGroup>, 8>& plans) {
+  constexpr std::size_t kPlanRows = 64;
+  std::array<std::size_t, 9> first{};  // chunk offsets per colour
+  for (std::size_t c = 0; c < 8; ++c) {
+    const std::size_t per_row = cells_per_row(topo.dims, c), groups = cell_groups_per_row(per_row);
+    const std::size_t rows = groups == 0 ? 0 : topo.colour_cells[c].size() / per_row;
+    plans[c].resize(rows * groups);
+    first[c + 1] = first[c] + chunk_count(rows, kPlanRows);
+  }
+  parallel_chunks(first[8], 1, [&](std::size_t chunk, std::size_t, std::size_t) {
+    const std::size_t c = std::size_t(std::upper_bound(first.begin(), first.end(), chunk) - first.begin()) - 1;
+    const std::size_t per_row = cells_per_row(topo.dims, c);
+    const std::size_t rows = topo.colour_cells[c].size() / per_row, r0 = (chunk - first[c]) * kPlanRows;
+    plan_cell_rows(r0, std::min(rows, r0 + kPlanRows), per_row, topo.colour_cells[c].data(), topo.dims, in,
+                   plans[c].data());
+  });
+}
+
+// Replans the rows of the colour lists that hold the cells around each vertex in
+// `vertices`: the cells a split there changes (kernels/fine_springs.hpp,
+// update_fine_springs_at). Row (jj, kk) of colour c is list row kk * nj + jj (see FineStrips).
+void replan_rows_around(const Topology& topo, const CellForceInputs& in, const std::vector<std::uint32_t>& vertices,
+                        std::array<std::vector<CellGroup>, 8>& plans) {
+  const LatticeDims& d = topo.dims;
+  std::vector<std::uint64_t> rows;  // colour << 32 | list row
+  for (std::uint32_t vertex : vertices) {
+    const std::array<int, 3> v = d.vertex_ijk(vertex);
+    for (int k = std::max(v[2] - 1, 0); k <= std::min(v[2], d.nl - 1); ++k)
+      for (int j = std::max(v[1] - 1, 0); j <= std::min(v[1], d.ny - 1); ++j)
+        for (int i = std::max(v[0] - 1, 0); i <= std::min(v[0], d.nx - 1); ++i) {
+          const std::size_t c = std::size_t(LatticeDims::colour(i, j, k));
+          const std::size_t row = std::size_t(k >> 1) * with_parity(d.ny, int(c >> 1) & 1) + std::size_t(j >> 1);
+          rows.push_back(std::uint64_t(c) << 32 | row);
+        }
+  }
+  std::sort(rows.begin(), rows.end());
+  rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
+  for (std::uint64_t key : rows) {
+    const std::size_t c = std::size_t(key >> 32), row = std::size_t(key & 0xFFFFFFFFu), per_row = cells_per_row(d, c);
+    if (cell_groups_per_row(per_row) != 0)
+      plan_cell_rows(row, row + 1, per_row, topo.colour_cells[c].data(), d, in, plans[c].data());
+  }
+}
+
+// Brings the merged fine springs, and the cell kernel's plan of its vector groups, up to
+// date with the topology. Fracture records every split as an event and adds one node per
+// split, so when the counts agree only the cells around the new events' vertices can have
+// changed; anything else (a new world, splits made outside the fracture pass) rebuilds both.
+// Returns false when nothing had changed since the last call (no split: the block lattice's
+// refresh can be skipped too, since a block is entered only by a split).
 bool sync_fine_springs(const World& w, SolverScratch& scratch) {
   const std::size_t cells = std::size_t(w.topo.dims.cells());
   const bool incremental = scratch.fine_topology == w.topo.cell_nodes.data() && scratch.fine.cells == cells &&
@@ -40,9 +92,14 @@ bool sync_fine_springs(const World& w, SolverScratch& scratch) {
     parallel_chunks(cells, kCellChunk, [&](std::size_t b, std::size_t e, std::size_t) {
       assign_fine_springs(b, e, w.topo, w.springs, build, scratch.fine);
     });
-  } else {
-    for (std::size_t e = scratch.fine_events; e < w.events.size(); ++e)
-      update_fine_springs_at(w.topo, w.springs, w.nodes.vertex[w.events[e].node], scratch.fine);
+    plan_fine_groups(w.topo, stage_inputs(w, scratch), scratch.groups);
+  } else if (changed) {
+    std::vector<std::uint32_t> vertices;
+    for (std::size_t e = scratch.fine_events; e < w.events.size(); ++e) {
+      vertices.push_back(w.nodes.vertex[w.events[e].node]);
+      update_fine_springs_at(w.topo, w.springs, vertices.back(), scratch.fine);
+    }
+    replan_rows_around(w.topo, stage_inputs(w, scratch), vertices, scratch.groups);
   }
   scratch.fine_topology = w.topo.cell_nodes.data();
   scratch.fine_nodes = w.nodes.count;
@@ -117,8 +174,6 @@ struct FineStrips {
 
   const CellGroup* plan(int colour) const { return plans ? (*plans)[std::size_t(colour)].data() : nullptr; }
 
-  static std::size_t with_parity(int n, int parity) { return std::size_t((n + 1 - parity) / 2); }
-
   // Phase p of cell rows j in [j0, j1).
   void run_phase(int p, int j0, int j1, const CellForceInputs& in, const ForceOutputs& out) const {
     const LatticeDims& d = topo->dims;
@@ -152,29 +207,6 @@ struct FineStrips {
 
 FineStrips fine_strips(const Topology& topo, const std::array<std::vector<CellGroup>, 8>* plans = nullptr) {
   return {&topo, chunk_count(std::size_t(std::max(topo.dims.ny, 0)), std::size_t(kStripRows)), plans};
-}
-
-// Cells per row of a colour's list: colour bit 0 is the parity of i.
-std::size_t cells_per_row(const LatticeDims& d, std::size_t colour) { return FineStrips::with_parity(d.nx, int(colour & 1)); }
-
-// Remakes the kernel's plan of every colour's vector groups, in parallel over fixed chunks
-// of rows (each group's plan depends on its own cells only).
-void plan_fine_groups(const Topology& topo, const CellForceInputs& in, std::array<std::vector<CellGroup>, 8>& plans) {
-  constexpr std::size_t kPlanRows = 64;
-  std::array<std::size_t, 9> first{};  // chunk offsets per colour
-  for (std::size_t c = 0; c < 8; ++c) {
-    const std::size_t per_row = cells_per_row(topo.dims, c), groups = cell_groups_per_row(per_row);
-    const std::size_t rows = groups == 0 ? 0 : topo.colour_cells[c].size() / per_row;
-    plans[c].resize(rows * groups);
-    first[c + 1] = first[c] + chunk_count(rows, kPlanRows);
-  }
-  parallel_chunks(first[8], 1, [&](std::size_t chunk, std::size_t, std::size_t) {
-    const std::size_t c = std::size_t(std::upper_bound(first.begin(), first.end(), chunk) - first.begin()) - 1;
-    const std::size_t per_row = cells_per_row(topo.dims, c);
-    const std::size_t rows = topo.colour_cells[c].size() / per_row, r0 = (chunk - first[c]) * kPlanRows;
-    plan_cell_rows(r0, std::min(rows, r0 + kPlanRows), per_row, topo.colour_cells[c].data(), topo.dims, in,
-                   plans[c].data());
-  });
 }
 
 // All fine springs and pass 1 of the block lattice (which shares the first phase's region:
@@ -238,7 +270,6 @@ void add_fine_forces(const Topology& topo, const CellForceInputs& in, const Forc
 void evaluate_forces(World& w, SolverScratch& scratch) {
   sync_fine_springs(w, scratch);
   const CellForceInputs in = stage_inputs(w, scratch);
-  plan_fine_groups(w.topo, in, scratch.groups);
   const ForceOutputs out = force_outputs(w);
   add_fine_and_block_forces(w, scratch, in, out, true);
   const BlockLattice& lattice = scratch.lattice;
@@ -255,7 +286,6 @@ void integrate_step(World& w, SolverScratch& scratch) {
                      kNone);
   const bool new_topology = sync_fine_springs(w, scratch);
   const CellForceInputs in = stage_inputs(w, scratch);
-  if (new_topology) plan_fine_groups(w.topo, in, scratch.groups);
   const ForceOutputs out = force_outputs(w);
   // The indenter (pierce only) is where it is at each stage's time: t, t + dt/2 twice, t + dt.
   // Its push goes in first, while the force columns are still zero (the previous stage's
