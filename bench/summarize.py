@@ -54,10 +54,14 @@ def ratios(cases):
             pt = get(f"step/papertear/{size}/threads:{t}")
             if ref and pt:
                 out.append((f"step {size}: reference (1 thread) / papertear ({t} threads)", ref / pt, "speed-up"))
-        for family, impl in (("step", "papertear"), ("force", "papertear"), ("fracture", "quiet")):
+        for family, impl in (("step", "papertear"), ("step", "torn"), ("force", "papertear"), ("fracture", "quiet")):
             one, two = get(f"{family}/{impl}/{size}/threads:1"), get(f"{family}/{impl}/{size}/threads:2")
             if one and two:
                 out.append((f"{family}/{impl} {size}: 1 thread / 2 threads", one / two, "thread scaling"))
+        for t in (1, 2):
+            torn, quiet = get(f"step/torn/{size}/threads:{t}"), get(f"step/papertear/{size}/threads:{t}")
+            if torn and quiet:
+                out.append((f"step {size}, {t} threads: the default scene torn / the quiet sheet", torn / quiet, "torn"))
         for t in (1, 2):
             frac, step = get(f"fracture/quiet/{size}/threads:{t}"), get(f"step/papertear/{size}/threads:{t}")
             if frac and step:

@@ -1,6 +1,8 @@
 // Short standard scenes shared by the golden-digest test and the cross-instruction-set check
 // (tests/simd/): an intact sheet (pure elasticity, with gravity), a tearing one and a peeling
-// one. Small enough to run in a second each.
+// one, and a wider tearing one (20 cells of a colour per row: with 16-lane vectors its rows
+// hold whole vector groups, which the 24-cell rows of the others do not). Small enough to run
+// in a second each.
 #pragma once
 #include <array>
 
@@ -26,11 +28,13 @@ struct StandardScene {
   int steps;
 };
 
-inline std::array<StandardScene, 3> scenes() {
+inline std::array<StandardScene, 4> scenes() {
   Scene intact = small("copy");
   intact.load.speed = 0.01;  // stays intact
   intact.world.gravity = {0.0, 0.0, -0.001};
-  return {{{"intact", intact, 300}, {"tearing", small("washi"), 400}, {"peeling", small("coated"), 400}}};
+  Scene wide = small("washi");
+  wide.sheet.cells = {40, 12, 3};
+  return {{{"intact", intact, 300}, {"tearing", small("washi"), 400}, {"peeling", small("coated"), 400}, {"wide", wide, 200}}};
 }
 
 }  // namespace papertear::standard
