@@ -174,6 +174,10 @@ struct Pairs8 {
     const __m256i lane = _mm256_set1_epi32(l), ids = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
     return _mm256_blendv_ps(v, _mm256_set1_ps(value), _mm256_castsi256_ps(_mm256_cmpeq_epi32(ids, lane)));
   }
+  // Lane l of `v`.
+  static float lane(const V& v, int l) {
+    return _mm_cvtss_f32(_mm256_castps256_ps128(_mm256_permutevar8x32_ps(v, _mm256_set1_epi32(l))));
+  }
 
   // Bytes first[2l], widened to floats.
   static V even_bytes(const std::uint8_t* first) {
@@ -222,6 +226,9 @@ struct Pairs16 {
 
   static V insert(const V& v, int l, float value) {
     return _mm512_mask_broadcastss_ps(v, __mmask16(1u << l), _mm_set_ss(value));
+  }
+  static float lane(const V& v, int l) {
+    return _mm_cvtss_f32(_mm512_castps512_ps128(_mm512_permutexvar_ps(_mm512_set1_epi32(l), v)));
   }
 
   static V even_bytes(const std::uint8_t* first) {
@@ -318,12 +325,10 @@ struct RegularGroup {
       for (int q = 0; q < 8; ++q) {
         const unsigned lanes = g.patch[q] & (~0u << skip);
         if (lanes == 0) continue;
-        alignas(64) float f_lanes[3][L];
-        for (int f = 0; f < 3; ++f) force[f][q].store_aligned(f_lanes[f]);
         for (unsigned left = lanes; left != 0; left &= left - 1) {
           const int l = std::countr_zero(left);
           const std::uint32_t node = patched_node(g, in.cell_nodes, l, q);
-          for (int f = 0; f < 3; ++f) dst_f[f][node] += f_lanes[f][l];
+          for (int f = 0; f < 3; ++f) dst_f[f][node] += P::lane(force[f][q], l);
         }
       }
   }
