@@ -1,5 +1,6 @@
 #include "kernels/cell_forces.hpp"
 
+#include <algorithm>
 #include <array>
 #include <bit>
 #include <type_traits>
@@ -118,18 +119,19 @@ struct CellLanes {
 
 // The nodes of a run of corner pairs a regular group adds to: node 2l (lane l's dx = 0
 // corner) and 2l + 1 (its dx = 1 corner). Bit t of the result is set when node t gets its
-// addition: lanes below `skip` are left out, and so are the corners in `drop_even`/`drop_odd`
-// (lane masks of corners whose node is a split copy elsewhere).
+// addition: lanes below `skip` and from `lanes` on are left out, and so are the corners in
+// `drop_even`/`drop_odd` (lane masks of corners whose node is a split copy elsewhere).
 inline unsigned spread_bits(unsigned x) {  // bit l -> bit 2l, for 16 bits
   x = (x | (x << 8)) & 0x00FF00FFu;
   x = (x | (x << 4)) & 0x0F0F0F0Fu;
   x = (x | (x << 2)) & 0x33333333u;
   return (x | (x << 1)) & 0x55555555u;
 }
-inline unsigned node_keep_mask(int skip, unsigned drop_even, unsigned drop_odd) {
+inline unsigned node_keep_mask(int skip, int lanes, unsigned drop_even, unsigned drop_odd) {
   const unsigned first = 2u * unsigned(skip);
   const unsigned from_skip = first >= 32 ? 0u : ~0u << first;
-  return from_skip & ~(spread_bits(drop_even) | (spread_bits(drop_odd) << 1));
+  const unsigned within = unsigned((std::uint64_t(1) << (2 * lanes)) - 1u);  // a short row's lanes
+  return from_skip & within & ~(spread_bits(drop_even) | (spread_bits(drop_odd) << 1));
 }
 
 // The lane type of regular groups and how it fetches and returns pairs of consecutive nodes.
@@ -143,30 +145,42 @@ struct Pairs8 {
   static constexpr int kLanes = 8;
 
   // Lanes l = 0..7 of (src[base + 2l], src[base + 2l + 1]).
-  static void load(const float* p, V& even, V& odd) {
-    const __m256 lo = _mm256_loadu_ps(p), hi = _mm256_loadu_ps(p + 8);
+  // Lanes l < lanes of (src[base + 2l], src[base + 2l + 1]); nothing is read past them.
+  static void load(const float* p, V& even, V& odd, int lanes = kLanes) {
+    __m256 lo, hi;
+    if (lanes == kLanes) {
+      lo = _mm256_loadu_ps(p);
+      hi = _mm256_loadu_ps(p + 8);
+    } else {
+      lo = _mm256_maskload_ps(p, node_mask(unsigned((1u << (2 * lanes)) - 1u)));
+      hi = _mm256_maskload_ps(p + 8, node_mask(unsigned((1u << (2 * lanes)) - 1u) >> 8));
+    }
     even = _mm256_castpd_ps(_mm256_permute4x64_pd(_mm256_castps_pd(_mm256_shuffle_ps(lo, hi, 0x88)), 0xD8));
     odd = _mm256_castpd_ps(_mm256_permute4x64_pd(_mm256_castps_pd(_mm256_shuffle_ps(lo, hi, 0xDD)), 0xD8));
   }
 
+  // Bits 0..7 of `nodes` as an element mask.
+  static __m256i node_mask(unsigned nodes) {
+    const __m256i bit = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+    return _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(int(nodes & 0xFFu)), bit), bit);
+  }
+
   // dst[base + 2l] += even[l], dst[base + 2l + 1] += odd[l] for lanes l >= skip whose bit is
   // clear in drop_even (drop_odd); the other nodes keep their bits (a blend).
-  static void add(float* p, const V& even, const V& odd, int skip, unsigned drop_even = 0, unsigned drop_odd = 0) {
+  static void add(float* p, const V& even, const V& odd, int skip, unsigned drop_even = 0, unsigned drop_odd = 0,
+                  int lanes = kLanes) {
     const __m256 a = _mm256_unpacklo_ps(even, odd), b = _mm256_unpackhi_ps(even, odd);
-    const __m256 old_lo = _mm256_loadu_ps(p), old_hi = _mm256_loadu_ps(p + 8);
-    __m256 new_lo = _mm256_add_ps(old_lo, _mm256_permute2f128_ps(a, b, 0x20));
-    __m256 new_hi = _mm256_add_ps(old_hi, _mm256_permute2f128_ps(a, b, 0x31));
-    const unsigned keep = node_keep_mask(skip, drop_even, drop_odd) & 0xFFFFu;
-    if (keep != 0xFFFFu) {
-      const __m256i bit = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
-      const auto select = [&](unsigned bits) {
-        return _mm256_castsi256_ps(_mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(int(bits)), bit), bit));
-      };
-      new_lo = _mm256_blendv_ps(old_lo, new_lo, select(keep & 0xFFu));
-      new_hi = _mm256_blendv_ps(old_hi, new_hi, select(keep >> 8));
+    const __m256 add_lo = _mm256_permute2f128_ps(a, b, 0x20), add_hi = _mm256_permute2f128_ps(a, b, 0x31);
+    const unsigned keep = node_keep_mask(skip, lanes, drop_even, drop_odd) & 0xFFFFu;
+    if (keep == 0xFFFFu) {
+      _mm256_storeu_ps(p, _mm256_add_ps(_mm256_loadu_ps(p), add_lo));
+      _mm256_storeu_ps(p + 8, _mm256_add_ps(_mm256_loadu_ps(p + 8), add_hi));
+      return;
     }
-    _mm256_storeu_ps(p, new_lo);
-    _mm256_storeu_ps(p + 8, new_hi);
+    // Masked: the other nodes are neither read nor written (a short row may end the columns).
+    const __m256i lo = node_mask(keep), hi = node_mask(keep >> 8);
+    _mm256_maskstore_ps(p, lo, _mm256_add_ps(_mm256_maskload_ps(p, lo), add_lo));
+    _mm256_maskstore_ps(p + 8, hi, _mm256_add_ps(_mm256_maskload_ps(p + 8, hi), add_hi));
   }
 
   // `v` with lane l set to `value`.
@@ -207,21 +221,25 @@ struct Pairs16 {
   using V = xsimd::batch<float, xsimd::avx512f>;
   static constexpr int kLanes = 16;
 
-  static void load(const float* p, V& even, V& odd) {
-    const __m512 lo = _mm512_loadu_ps(p), hi = _mm512_loadu_ps(p + 16);
+  static void load(const float* p, V& even, V& odd, int lanes = kLanes) {
+    const unsigned nodes = unsigned((std::uint64_t(1) << (2 * lanes)) - 1u);
+    const __m512 lo = lanes == kLanes ? _mm512_loadu_ps(p) : _mm512_maskz_loadu_ps(__mmask16(nodes), p);
+    const __m512 hi = lanes == kLanes ? _mm512_loadu_ps(p + 16) : _mm512_maskz_loadu_ps(__mmask16(nodes >> 16), p + 16);
     const __m512i e = _mm512_setr_epi32(0, 2, 4, 6, 8, 10, 12, 14, 16, 18, 20, 22, 24, 26, 28, 30);
     even = _mm512_permutex2var_ps(lo, e, hi);
     odd = _mm512_permutex2var_ps(lo, _mm512_add_epi32(e, _mm512_set1_epi32(1)), hi);
   }
 
-  static void add(float* p, const V& even, const V& odd, int skip, unsigned drop_even = 0, unsigned drop_odd = 0) {
+  static void add(float* p, const V& even, const V& odd, int skip, unsigned drop_even = 0, unsigned drop_odd = 0,
+                  int lanes = kLanes) {
     const __m512i lo_idx = _mm512_setr_epi32(0, 16, 1, 17, 2, 18, 3, 19, 4, 20, 5, 21, 6, 22, 7, 23);
     const __m512 a = _mm512_permutex2var_ps(even, lo_idx, odd);
     const __m512 b = _mm512_permutex2var_ps(even, _mm512_add_epi32(lo_idx, _mm512_set1_epi32(8)), odd);
-    // Nodes 2l and 2l + 1 belong to lane l.
-    const unsigned keep = node_keep_mask(skip, drop_even, drop_odd);
-    _mm512_mask_storeu_ps(p, __mmask16(keep), _mm512_add_ps(_mm512_loadu_ps(p), a));
-    _mm512_mask_storeu_ps(p + 16, __mmask16(keep >> 16), _mm512_add_ps(_mm512_loadu_ps(p + 16), b));
+    // Nodes 2l and 2l + 1 belong to lane l; the others are neither read nor written.
+    const unsigned keep = node_keep_mask(skip, lanes, drop_even, drop_odd);
+    const __mmask16 lo = __mmask16(keep), hi = __mmask16(keep >> 16);
+    _mm512_mask_storeu_ps(p, lo, _mm512_add_ps(_mm512_maskz_loadu_ps(lo, p), a));
+    _mm512_mask_storeu_ps(p + 16, hi, _mm512_add_ps(_mm512_maskz_loadu_ps(hi, p + 16), b));
   }
 
   static V insert(const V& v, int l, float value) {
@@ -300,17 +318,19 @@ struct RegularGroup {
     V x[8], y[8], z[8], u[8], v[8], w[8];
     const float* src[6] = {in.px, in.py, in.pz, in.vx, in.vy, in.vz};
     V* dst[6] = {x, y, z, u, v, w};
+    const int lanes = int(g.lanes);
     for (int p = 0; p < 4; ++p)
-      for (int f = 0; f < 6; ++f) P::load(src[f] + g.base[p], dst[f][2 * p], dst[f][2 * p + 1]);
+      for (int f = 0; f < 6; ++f) P::load(src[f] + g.base[p], dst[f][2 * p], dst[f][2 * p + 1], lanes);
     if constexpr (kPatched)
       for (int q = 0; q < 8; ++q)
-        for (unsigned lanes = g.patch[q]; lanes != 0; lanes &= lanes - 1) {
-          const int l = std::countr_zero(lanes);
+        for (unsigned left = g.patch[q]; left != 0; left &= left - 1) {
+          const int l = std::countr_zero(left);
           const std::uint32_t node = patched_node(g, in.cell_nodes, l, q);
           for (int f = 0; f < 6; ++f) dst[f][q] = P::insert(dst[f][q], l, src[f][node]);
         }
     alignas(64) float scale[L];
-    for (int l = 0; l < L; ++l) scale[l] = kUnitScale ? 1.0f : in.cell_scale[g.first_cell + 2 * std::uint32_t(l)];
+    for (int l = 0; l < L; ++l)
+      scale[l] = kUnitScale || l >= lanes ? 1.0f : in.cell_scale[g.first_cell + 2 * std::uint32_t(l)];
     const RowCounts count{in.fine->count.data() + g.first_cell, in.fine->cells};
     V fx[8], fy[8], fz[8];
     CellSprings<V>::template run<kSlots, kUnitScale>(x, y, z, u, v, w, V::load_aligned(scale), *in.table, count, fx,
@@ -320,12 +340,10 @@ struct RegularGroup {
     for (int p = 0; p < 4; ++p)
       for (int f = 0; f < 3; ++f)
         P::add(dst_f[f] + g.base[p], force[f][2 * p], force[f][2 * p + 1], skip, kPatched ? g.patch[2 * p] : 0u,
-               kPatched ? g.patch[2 * p + 1] : 0u);
+               kPatched ? g.patch[2 * p + 1] : 0u, lanes);
     if constexpr (kPatched)
       for (int q = 0; q < 8; ++q) {
-        const unsigned lanes = g.patch[q] & (~0u << skip);
-        if (lanes == 0) continue;
-        for (unsigned left = lanes; left != 0; left &= left - 1) {
+        for (unsigned left = g.patch[q] & (~0u << skip); left != 0; left &= left - 1) {
           const int l = std::countr_zero(left);
           const std::uint32_t node = patched_node(g, in.cell_nodes, l, q);
           for (int f = 0; f < 3; ++f) dst_f[f][node] += P::lane(force[f][q], l);
@@ -346,22 +364,29 @@ struct RegularGroup {
   // corner pairs' first nodes those of the lattice vertices, and patched where a corner's node
   // is not its vertex's: after a tear most groups have a few such corners (~10 of 128 in the
   // default scene's damage zone), and the general loader made them ~3x a regular group.
-  static CellGroup plan(const std::uint32_t* cells, const CellForceInputs& in, const LatticeDims* dims) {
-    CellGroup g{{0, 0, 0, 0}, cells[0], kIrregular, {}};
-    const std::uint32_t owned = P::or_even(in.fine->owned.data() + cells[0]);
+  // `lanes` < L: a row of that many cells, shorter than a vector; its group leaves the other
+  // lanes' nodes alone (masked loads and stores).
+  static CellGroup plan(const std::uint32_t* cells, const CellForceInputs& in, const LatticeDims* dims, int lanes = L) {
+    CellGroup g{{0, 0, 0, 0}, cells[0], kIrregular, {}, std::uint32_t(lanes)};
+    std::uint32_t owned = 0;
+    if (lanes == L) owned = P::or_even(in.fine->owned.data() + cells[0]);
+    else
+      for (int l = 0; l < lanes; ++l) owned |= in.fine->owned[cells[l]];
     bool patched = false;
-    if ((owned & kSplitCorner) == 0) {
+    if (lanes == L && (owned & kSplitCorner) == 0) {
       if (!bases(cells, in.cell_nodes, owned, g.base)) return g;
     } else {
-      if (dims == nullptr || !P::stride_two(cells)) return g;
+      if (dims == nullptr) return g;
+      for (int l = 1; l < lanes; ++l)
+        if (cells[l] != cells[0] + 2u * unsigned(l)) return g;
       const std::array<int, 3> ijk = dims->cell_ijk(cells[0]);
-      if (ijk[0] + 2 * (L - 1) >= dims->nx) return g;  // not within one row
+      if (ijk[0] + 2 * (lanes - 1) >= dims->nx) return g;  // not within one row
       for (int p = 0; p < 4; ++p) g.base[p] = dims->vertex_index(ijk[0], ijk[1] + (p & 1), ijk[2] + (p >> 1));
-      for (int l = 0; l < L; ++l)
+      for (int l = 0; l < lanes; ++l)
         for (int q = 0; q < 8; ++q)
           if (in.cell_nodes[std::size_t(cells[l]) * 8 + std::size_t(q)] != g.base[q >> 1] + 2u * unsigned(l) + unsigned(q & 1))
             g.patch[q] = std::uint16_t(g.patch[q] | (1u << l));
-      patched = true;
+      patched = std::any_of(std::begin(g.patch), std::end(g.patch), [](std::uint16_t m) { return m != 0; });
     }
     auto within = [owned](std::uint32_t slots) { return (owned & ~slots) == 0; };
     constexpr std::uint32_t kLowX = kLowSlots | kHighXSlots, kLowZ = kLowSlots | kHighZSlots;
@@ -405,12 +430,13 @@ using CellLane = lanes::Wide;
 // How a group of W cells is run: planned from its cells (regular groups only with the
 // regular lane type; every other group takes the general loader).
 template <class V>
-CellGroup plan_group(const std::uint32_t* cells, const CellForceInputs& in, const LatticeDims* dims = nullptr) {
+CellGroup plan_group(const std::uint32_t* cells, const CellForceInputs& in, const LatticeDims* dims = nullptr,
+                     std::size_t lanes = CellLanes<V>::W) {
 #ifdef PAPERTEAR_CELL_REGULAR
-  if constexpr (std::is_same_v<V, CellLane>) return RegularGroup<CellPairs>::plan(cells, in, dims);
+  if constexpr (std::is_same_v<V, CellLane>) return RegularGroup<CellPairs>::plan(cells, in, dims, int(lanes));
 #endif
   (void)dims;
-  return {{0, 0, 0, 0}, cells[0], kIrregular, {}};
+  return {{0, 0, 0, 0}, cells[0], kIrregular, {}, std::uint32_t(lanes)};
 }
 
 // Runs W cells from `cells` as planned, adding only lanes >= skip.
@@ -422,6 +448,16 @@ void run_group(const CellGroup& plan, const std::uint32_t* cells, const CellForc
     if (RegularGroup<CellPairs>::run(plan, in, out, skip)) return;
 #endif
   CellLanes<V>::run(cells, in, out, skip);
+}
+
+// A planned group if it is regular; false (nothing done) otherwise.
+template <class V>
+bool run_regular(const CellGroup& plan, const CellForceInputs& in, const ForceOutputs& out) {
+#ifdef PAPERTEAR_CELL_REGULAR
+  if constexpr (std::is_same_v<V, CellLane>) return RegularGroup<CellPairs>::run(plan, in, out, 0);
+#endif
+  (void)plan, (void)in, (void)out;
+  return false;
 }
 
 template <class V>
@@ -460,6 +496,7 @@ struct RowGroup {
   std::size_t offset, skip;
 };
 RowGroup row_group(std::size_t per_row, std::size_t g, std::size_t W) {
+  if (per_row < W) return {0, 0};  // the row's one (short) group
   const std::size_t start = g * W;
   return start + W <= per_row ? RowGroup{start, 0} : RowGroup{per_row - W, start + W - per_row};
 }
@@ -468,8 +505,13 @@ template <class V>
 void add_rows_with(std::size_t begin, std::size_t end, std::size_t per_row, const std::uint32_t* cells,
                    const CellForceInputs& in, const ForceOutputs& out, const CellGroup* plan) {
   constexpr std::size_t W = CellLanes<V>::W;
-  if (per_row < W) {
-    add_forces_with<V>(begin, end, cells, in, out);
+  if (per_row < W) {  // rows shorter than a vector: planned regular groups with masked lanes
+    if (plan == nullptr) {
+      add_forces_with<V>(begin, end, cells, in, out);
+      return;
+    }
+    for (std::size_t row = begin; row < end; row += per_row)
+      if (!run_regular<V>(plan[row / per_row], in, out)) add_forces_with<V>(row, row + per_row, cells, in, out);
     return;
   }
   const std::size_t groups = cell_groups_per_row(per_row);
@@ -506,7 +548,7 @@ void add_cell_row_forces(std::size_t begin, std::size_t end, std::size_t per_row
 
 std::size_t cell_groups_per_row(std::size_t per_row) {
   constexpr std::size_t W = CellLanes<CellLane>::W;
-  return per_row < W ? 0 : (per_row + W - 1) / W;
+  return (per_row + W - 1) / W;
 }
 
 void plan_cell_rows(std::size_t row_begin, std::size_t row_end, std::size_t per_row, const std::uint32_t* cells,
@@ -515,7 +557,8 @@ void plan_cell_rows(std::size_t row_begin, std::size_t row_end, std::size_t per_
   const std::size_t groups = cell_groups_per_row(per_row);
   for (std::size_t row = row_begin; row < row_end; ++row)
     for (std::size_t g = 0; g < groups; ++g)
-      plan[row * groups + g] = plan_group<CellLane>(cells + row * per_row + row_group(per_row, g, W).offset, in, &dims);
+      plan[row * groups + g] =
+          plan_group<CellLane>(cells + row * per_row + row_group(per_row, g, W).offset, in, &dims, std::min(per_row, W));
 }
 
 void add_cell_forces_scalar(std::size_t begin, std::size_t end, const std::uint32_t* cells,

@@ -80,6 +80,7 @@ struct CellGroup {
   std::uint32_t first_cell;
   std::uint32_t kind;         // kernels/cell_forces.cpp
   std::uint16_t patch[8];     // per corner: the lanes whose node there is a split copy
+  std::uint32_t lanes;        // cells in the group: the vector width, or a shorter row's length
 };
 
 // Adds the spring forces of cells[begin, end) into out. All cells must share a colour.
@@ -90,8 +91,8 @@ void add_cell_forces(std::size_t begin, std::size_t end, const std::uint32_t* ce
 // With a plan (plan_cell_rows over the same list, from group 0) the groups run as planned.
 void add_cell_row_forces(std::size_t begin, std::size_t end, std::size_t per_row, const std::uint32_t* cells,
                          const CellForceInputs& in, const ForceOutputs& out, const CellGroup* plan = nullptr);
-// Vector groups per row of per_row cells in add_cell_row_forces; 0 for rows shorter than a
-// vector, which are never planned.
+// Vector groups per row of per_row cells in add_cell_row_forces (a row shorter than a vector
+// is one group).
 std::size_t cell_groups_per_row(std::size_t per_row);
 // Plans the groups of list rows [row_begin, row_end) of `cells` (rows of per_row cells) into
 // plan[row * cell_groups_per_row(per_row) + g].

@@ -244,14 +244,16 @@ TEST_CASE("the solver's strips of rows add the same bits as one pass per colour 
 }
 
 TEST_CASE("planned vector groups, split copies patched in, add the same bits as the scalar kernel", "[reference]") {
-  // 37 cells per row: 19 and 18 per colour, whole vector groups and an overlapping last one.
+  // 37 cells per row: 19 and 18 per colour, whole vector groups and an overlapping last one;
   // Splits all over the sheet leave most groups with a few corners whose node is a split copy:
   // planned with the lattice's dimensions, such groups still load their corner pairs as
   // vectors and fetch and return those corners one lane at a time.
+  // 21 and 7 cells per row: rows shorter than a vector (16 or 8 lanes), one masked group each.
   const bool random_scales = GENERATE(true, false);
-  INFO("random stiffness factors: " << random_scales);
+  const int nx = GENERATE(37, 21, 7);
+  INFO("random stiffness factors: " << random_scales << ", cells per row " << nx);
   pt::Scene scene = small_pull_scene();
-  scene.sheet.cells = {37, 6, 3};
+  scene.sheet.cells = {nx, 6, 3};
   pt::World w = perturbed_world(scene, 47, 0.1f, 0.05f, random_scales);
   const pt::LatticeDims& d = w.topo.dims;
   for (int i = 1; i < d.nx; i += 3)

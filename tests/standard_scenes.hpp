@@ -1,8 +1,9 @@
 // Short standard scenes shared by the golden-digest test and the cross-instruction-set check
 // (tests/simd/): an intact sheet (pure elasticity, with gravity), a tearing one and a peeling
-// one, and a wider tearing one (20 cells of a colour per row: with 16-lane vectors its rows
-// hold whole vector groups, which the 24-cell rows of the others do not). Small enough to run
-// in a second each.
+// one, a wider tearing one (20 cells of a colour per row: with 16-lane vectors its rows hold
+// whole vector groups, which the 24-cell rows of the others do not) and a narrower one (7
+// cells of a colour per row: shorter than a vector of 8 or 16). Small enough to run in a
+// second each.
 #pragma once
 #include <array>
 
@@ -28,13 +29,18 @@ struct StandardScene {
   int steps;
 };
 
-inline std::array<StandardScene, 4> scenes() {
+inline std::array<StandardScene, 5> scenes() {
   Scene intact = small("copy");
   intact.load.speed = 0.01;  // stays intact
   intact.world.gravity = {0.0, 0.0, -0.001};
-  Scene wide = small("washi");
+  Scene wide = small("washi"), narrow = small("washi");
   wide.sheet.cells = {40, 12, 3};
-  return {{{"intact", intact, 300}, {"tearing", small("washi"), 400}, {"peeling", small("coated"), 400}, {"wide", wide, 200}}};
+  narrow.sheet.cells = {14, 16, 3};
+  return {{{"intact", intact, 300},
+           {"tearing", small("washi"), 400},
+           {"peeling", small("coated"), 400},
+           {"wide", wide, 200},
+           {"narrow", narrow, 300}}};
 }
 
 }  // namespace papertear::standard
