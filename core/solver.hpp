@@ -1,7 +1,9 @@
 // One time step of the solver: four RK4 stages, each a force evaluation and a node update.
 //
 // Before stage 1 the merged-spring table (kernels/fine_springs.hpp: which cell evaluates
-// which coincident fine springs) is brought up to date with the splits since the last step.
+// which coincident fine springs) and the cell kernel's plan of its vector groups
+// (kernels/cell_forces.hpp, CellGroup) are brought up to date with the splits since the last
+// step.
 // Per stage, in this order (each line is one or more parallel regions; kernels/parallel.hpp
 // explains why the result does not depend on the thread count):
 //   1. fine springs, by strips of rows   a task takes a strip of kStripRows values of j and

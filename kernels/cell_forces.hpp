@@ -15,12 +15,14 @@
 // sixteen cells per AVX-512 vector (eight with AVX2). Coincident springs of neighbouring
 // cells are evaluated once, by one of the cells, weighted by their number
 // (kernels/fine_springs.hpp): a group whose cells own only the 13 low slots (most groups)
-// runs 13 springs instead of 28. Groups of cells along a lattice row whose nodes are still
-// the row's consecutive nodes ("regular": every group before any split) load each corner
-// pair with two vector loads and a permute and add their forces back the same way; other
-// groups fetch corners with scalar loads into a small aligned buffer (on the development
-// machine hardware gathers were slower). Both paths give each lane the same values and each
-// node one addition, so the bits are the same.
+// runs 13 springs instead of 28. Groups of cells along a lattice row ("regular": every
+// group the solver plans, see CellGroup) load each corner pair with two vector loads and a
+// permute from the nodes of the lattice vertices, and add their forces back the same way;
+// corners whose node is a split copy are patched in and added one lane at a time, and a row
+// shorter than a vector masks the lanes past its end. Other groups (unplanned calls, runs of
+// cells that are not a row's) fetch corners with scalar loads into a small aligned buffer (on
+// the development machine hardware gathers were slower). All paths give each lane the same
+// values and each node one addition, so the bits are the same.
 //
 // Force of one spring (a → b), Hooke plus damping along the spring, times the number n of
 // springs it stands for:
