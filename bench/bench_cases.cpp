@@ -1,7 +1,9 @@
 #include "bench_cases.hpp"
 
 #include <bit>
+#include <map>
 
+#include "core/simulation.hpp"
 #include "core/world.hpp"
 #include "kernels/coarse_forces.hpp"
 #include "kernels/fine_springs.hpp"
@@ -19,6 +21,17 @@ std::string case_name(const char* family, const char* impl, const Case& c) {
   return std::string(family) + "/" + impl + "/" + std::to_string(c.size.nx) + "x" +
          std::to_string(c.size.ny) + "x" + std::to_string(c.size.nl) + "/threads:" +
          std::to_string(c.threads);
+}
+
+const World& default_scene_at(int step) {
+  static std::map<int, World> worlds;  // std::map: references stay valid as it grows
+  auto it = worlds.find(step);
+  if (it == worlds.end()) {
+    Simulation sim(Scene{}, {.threads = 2});
+    sim.step(step);
+    it = worlds.emplace(step, sim.world()).first;
+  }
+  return it->second;
 }
 
 Scene quiet_pull_scene(const Size& size) {

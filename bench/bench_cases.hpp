@@ -43,6 +43,10 @@ std::string case_name(const char* family, const char* impl, const Case& c);
 // so every timed step does the same work.
 Scene quiet_pull_scene(const Size& size);
 
+// The default scene (the paper's experiment) run to `step` on 2 threads, made once per
+// process and step (seconds each) and kept for the cases that start from it.
+const World& default_scene_at(int step);
+
 // Registers a case that times itself (UseManualTime: the wall clock around its work only),
 // reported in `unit`; `args` follow the state in each call of `fn`.
 template <class Fn, class... Args>

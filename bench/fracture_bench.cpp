@@ -71,16 +71,6 @@ void fracture_tearing(benchmark::State& state, int threads) {
   time_fracture_passes(state, sim.world(), threads);
 }
 
-// The default scene at step kTearFrom, made once per process (a few seconds).
-const World& tearing_default_scene() {
-  static const World world = [] {
-    Simulation sim(Scene{}, {.threads = 2});
-    sim.step(kTearFrom);
-    return sim.world();
-  }();
-  return world;
-}
-
 // Each iteration copies the saved world and runs its next kTearSteps steps, timing the RK4
 // step and the fracture pass apart; the time reported is the fracture pass's per step.
 // (One untimed step first: a copied world's solver tables are built on its first step.)
@@ -90,7 +80,7 @@ void fracture_default(benchmark::State& state, int threads) {
   double step_seconds = 0.0, fracture_seconds = 0.0;
   std::size_t splits = 0;
   for (auto _ : state) {
-    World world = tearing_default_scene();
+    World world = default_scene_at(kTearFrom);
     SolverScratch solver;
     FractureScratch fracture;
     struct Advanced {

@@ -53,19 +53,9 @@ void step_papertear(benchmark::State& state, Case c) {
 // The default scene tears between steps ~360 and ~800 of its 1200.
 constexpr int kTornAt = 800;
 
-// The default scene at step kTornAt, made once per process (a few seconds).
-const World& torn_default_scene() {
-  static const World world = [] {
-    Simulation sim(Scene{}, {.threads = 2});
-    sim.step(kTornAt);
-    return sim.world();
-  }();
-  return world;
-}
-
 // One untimed step first: a copied world's solver tables are built on its first step.
 void step_torn(benchmark::State& state, int threads) {
-  Simulation sim(torn_default_scene(), {.threads = threads});
+  Simulation sim(default_scene_at(kTornAt), {.threads = threads});
   sim.step(1);
   state.SetLabel(digest_label(sim.steps_done(), sim.digest()));
   const Size size{90, 90, 5};
