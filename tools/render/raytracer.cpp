@@ -832,11 +832,12 @@ void for_each_pixel_by_block(int x0, int y0, int x1, int y1, const Pixel& pixel)
         for (int x = bx; x < std::min(bx + kBlock, x1); ++x) pixel(x, y);
 }
 
+constexpr float kContrast = 0.015f;  // in linear light, about 1.5 % of white
+
 // Whether a pixel's value differs visibly from one of its four neighbours'; value(i) is
 // pixel i's.
 template <class Value>
 bool differs_from_neighbours(int width, int height, int x, int y, const Value& value) {
-  constexpr float kContrast = 0.015f;  // in linear light, about 1.5 % of white
   const auto at = [&](int px, int py) -> const Vec3& { return value(std::size_t(py) * std::size_t(width) + std::size_t(px)); };
   const Vec3& c = at(x, y);
   const int dx[4] = {-1, 1, 0, 0}, dy[4] = {0, 0, -1, 1};
@@ -846,6 +847,39 @@ bool differs_from_neighbours(int width, int height, int x, int y, const Value& v
     if ((at(nx, ny) - c).cwiseAbs().maxCoeff() > kContrast) return true;
   }
   return false;
+}
+
+// differs_from_neighbours() for every pixel of a tile at once, out[(y - y0) * kTile + x - x0],
+// with the same result. A row of the tile is one run of floats, and its left, right, upper
+// and lower neighbours are runs at fixed offsets, so the differences are taken channel by
+// channel in loops without branches or gathers that the compiler vectorises; the pixels in
+// the image's first and last columns, whose left or right neighbour is not in the image, are
+// then tested one by one. Every pixel of a frame is tested: per pixel, with early exits, this
+// was about a tenth of pass 2's time (branches mispredicted on printed areas).
+void tile_contrast(const Vec3* value, int width, int height, int x0, int y0, int x1, int y1,
+                   std::array<std::uint8_t, kTile * kTile>& out) {
+  const auto row_step = std::ptrdiff_t(3) * width;
+  // The run: pixels with both a left and a right neighbour in the image.
+  const int xs = std::max(x0, 1), xe = std::min(x1, width - 1);
+  const auto n = std::size_t(3 * std::max(xe - xs, 0));
+  alignas(64) std::array<float, 3 * kTile> diff;
+  const auto value_at = [&](std::size_t i) -> const Vec3& { return value[i]; };
+  for (int y = y0; y < y1; ++y) {
+    const float* c = value[std::size_t(y) * std::size_t(width) + std::size_t(xs)].data();
+    // An upper or lower neighbour outside the image is the pixel itself (difference 0).
+    const std::ptrdiff_t up = y > 0 ? -row_step : 0, down = y + 1 < height ? row_step : 0;
+    for (std::size_t e = 0; e < n; ++e) {
+      const auto i = std::ptrdiff_t(e);
+      const float here = c[i];
+      diff[e] = std::max(std::max(std::abs(c[i - 3] - here), std::abs(c[i + 3] - here)),
+                         std::max(std::abs(c[i + up] - here), std::abs(c[i + down] - here)));
+    }
+    std::uint8_t* row = out.data() + std::size_t(y - y0) * kTile;
+    for (std::size_t x = 0; x < n / 3; ++x)
+      row[std::size_t(xs - x0) + x] = std::max(std::max(diff[3 * x], diff[3 * x + 1]), diff[3 * x + 2]) > kContrast;
+    for (int x = x0; x < x1; ++x)
+      if (x < xs || x >= xe) row[x - x0] = differs_from_neighbours(width, height, x, y, value_at);
+  }
 }
 
 // One sample per pixel (adaptive sampling's first pass).
@@ -873,9 +907,9 @@ struct FrameBuffers {
 // (most such pixels of a printed sheet), the print is looked up where the samples would
 // meet the same flat surface, lit as the first sample. Flat areas are already converged.
 enum class Refinement { none, rays, print };
-Refinement refinement(const FirstPass& first, int width, int height, int x, int y) {
-  if (!differs_from_neighbours(width, height, x, y, [&](std::size_t i) -> const Vec3& { return first.colour[i]; }))
-    return Refinement::none;
+// `contrast`: whether its colour differs from a neighbour's (tile_contrast).
+Refinement refinement(const FirstPass& first, int width, int height, int x, int y, bool contrast) {
+  if (!contrast) return Refinement::none;
   if (differs_from_neighbours(width, height, x, y, [&](std::size_t i) -> const Vec3& { return first.info[i].plain; }))
     return Refinement::rays;
   const std::size_t i = std::size_t(y) * std::size_t(width) + std::size_t(x);
@@ -1007,9 +1041,12 @@ Image Renderer::Impl::frame(const SurfaceMesh& mesh, const Camera& camera, Frame
       tracer.trace_packet(sampler.eye(), rays, sample.data() + sample.size() - std::size_t(rays.count));
       rays.count = 0;
     };
+    std::array<std::uint8_t, kTile * kTile> contrast;
+    if (s.samples > 1) tile_contrast(first.colour.data(), s.width, s.height, x0, y0, x1, y1, contrast);
     if (s.samples > 1)
       for_each_pixel_by_block(x0, y0, x1, y1, [&](int x, int y) {
-        const Refinement r = refinement(first, s.width, s.height, x, y);
+        const bool differs = contrast[std::size_t(y - y0) * kTile + std::size_t(x - x0)] != 0;
+        const Refinement r = refinement(first, s.width, s.height, x, y, differs);
         if (r == Refinement::print) print_only.push_back({x, y});
         if (r != Refinement::rays) return;
         for (int k = 1; k < s.samples; ++k) {
