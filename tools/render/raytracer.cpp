@@ -590,7 +590,7 @@ class FrameTracer {
 
   void build(RTCDevice device, const Vec3& eye) {
     sort_triangles(eye);
-    copy_vertices();
+    share_vertices();
     for (unsigned g = 0; g < kScenes; ++g) {
       pair_triangles(mesh_, tris_[g], quads_[g]);
       attach(device, g);
@@ -645,19 +645,25 @@ class FrameTracer {
     }
   }
 
-  // One copy of the vertices for both scenes (Embree reads up to 16 bytes at a time, hence
-  // the padding), and the ray offset off surfaces scaled to the mesh's extent.
-  void copy_vertices() {
+  // The vertices both scenes read, and the ray offset off surfaces scaled to the mesh's
+  // extent. Embree loads 16 bytes at a vertex, 4 past the last one's position: the mesh's own
+  // array is shared when it has a spare element's room after its end (SurfaceMesh::resize
+  // leaves one), else the positions are copied into a padded buffer.
+  void share_vertices() {
     constexpr std::size_t kChunk = 65536;
     const std::size_t nv = mesh_.vertex_count();
-    vertices_.resize(3 * nv + 4);
-    std::fill(vertices_.end() - 4, vertices_.end(), 0.0f);
+    const bool spare = mesh_.position.capacity() > nv;
+    if (!spare) {
+      vertices_.resize(3 * nv + 4);
+      std::fill(vertices_.end() - 4, vertices_.end(), 0.0f);
+    }
+    vertex_data_ = spare ? mesh_.position.data()->data() : vertices_.data();
     std::vector<float> extent(chunk_count(nv, kChunk), 0.0f);
     parallel_chunks(nv, kChunk, [&](std::size_t begin, std::size_t end, std::size_t c) {
       float e = 0.0f;
       for (std::size_t i = begin; i < end; ++i)
         for (std::size_t k = 0; k < 3; ++k) {
-          vertices_[3 * i + k] = mesh_.position[i][k];
+          if (!spare) vertices_[3 * i + k] = mesh_.position[i][k];
           e = std::max(e, std::abs(mesh_.position[i][k]));
         }
       extent[c] = e;
@@ -667,7 +673,7 @@ class FrameTracer {
   }
 
   // Puts the quads quads_[g] into scene g; its primitive p is quads_[g][p]. Embree reads
-  // the vertex copy and the quads' corners where they are (shared buffers, no copies).
+  // the vertices and the quads' corners where they are (shared buffers, no copies).
   void attach(RTCDevice device, unsigned g) {
     const std::vector<TracedQuad>& quads = quads_[g];
     if (quads.empty()) {
@@ -675,7 +681,7 @@ class FrameTracer {
       return;
     }
     RTCGeometry geom = scenes_[g].use_geometry(device, RTC_GEOMETRY_TYPE_QUAD);
-    rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, vertices_.data(), 0,
+    rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, vertex_data_, 0,
                                3 * sizeof(float), mesh_.vertex_count());
     rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT4, quads.data(),
                                offsetof(TracedQuad, vertex), sizeof(TracedQuad), quads.size());
@@ -790,7 +796,8 @@ class FrameTracer {
   const Look& look_;
   const Texture& texture_;
   // In the TracerBuffers the tracer was given.
-  MeshArray<float>& vertices_;
+  MeshArray<float>& vertices_;  // a padded copy of the positions, where needed (share_vertices)
+  const float* vertex_data_ = nullptr;  // what Embree reads
   MeshArray<Vec3>& tri_normal_;
   std::array<std::vector<std::uint32_t>, kScenes>& tris_;  // the triangles of each scene (SceneId)
   std::array<std::vector<TracedQuad>, kScenes>& quads_;    // primitives of each scene

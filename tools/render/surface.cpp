@@ -13,12 +13,14 @@ namespace papertear::render {
 namespace {
 
 // resize() of one array without copying its entries when it grows: every entry is rewritten.
-// Room for a few more (tears only grow) spares the next frames a reallocation.
+// Room for a few more (tears only grow) spares the next frames a reallocation, and at least
+// one spare element lets the ray tracer hand the positions to Embree as they are (it loads
+// 16 bytes at a vertex).
 template <class T>
 void resize_for_overwrite(MeshArray<T>& a, std::size_t n) {
-  if (n > a.capacity()) {
+  if (n >= a.capacity()) {
     a.clear();
-    a.reserve(n + n / 16);
+    a.reserve(n + n / 16 + 1);
   }
   a.resize(n);
 }
