@@ -80,20 +80,6 @@ class SrgbEncoder {
     return lut_[i + std::size_t(x - float(i) >= 0.5f)];
   }
 
-  // operator()(in[i] * scale) for i < n <= kRun (a tile's row of RGB values) into out[i]:
-  // the table indices in a loop the compiler vectorises, then the look-ups. The same bytes;
-  // one call per value cost ~25 cycles per pixel, for every pixel of a frame.
-  static constexpr std::size_t kRun = 3 * kTile;
-  void encode_run(const float* in, std::size_t n, float scale, std::uint8_t* out) const {
-    alignas(64) std::array<std::uint32_t, kRun> at;
-    for (std::size_t i = 0; i < n; ++i) {
-      const float x = std::clamp(in[i] * scale, 0.0f, 1.0f) * float(kSteps);
-      const auto k = std::uint32_t(x);
-      at[i] = k + std::uint32_t(x - float(k) >= 0.5f);
-    }
-    for (std::size_t i = 0; i < n; ++i) out[i] = lut_[at[i]];
-  }
-
  private:
   static constexpr int kSteps = 8192;
   std::array<std::uint8_t, kSteps + 1> lut_{};
@@ -1078,8 +1064,7 @@ Image Renderer::Impl::frame(const SurfaceMesh& mesh, const Camera& camera, Frame
       });
     if (rays.count > 0) flush();
     for (int y = y0; y < y1; ++y)
-      encode.encode_run(first.colour[index(x0, y)].data(), std::size_t(3 * (x1 - x0)), exposure,
-                        image.rgb.data() + 3 * index(x0, y));
+      for (int x = x0; x < x1; ++x) put(index(x, y), first.colour[index(x, y)]);
     // Pixels with extra samples (overwritten): their mean, summed in sample order.
     for (std::size_t j = 0; j < pixel_of.size();) {
       const std::size_t i = pixel_of[j];
