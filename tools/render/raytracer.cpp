@@ -135,7 +135,6 @@ const RenderSettings& checked(const RenderSettings& s) {
 
 }  // namespace
 
-
 namespace {
 
 // Rays traced together as one Embree packet.
@@ -291,9 +290,10 @@ constexpr unsigned kScenes = 3;
 constexpr float kFar = std::numeric_limits<float>::infinity();
 
 // What a frame's tracer builds, kept for the next frame to build into again (the Renderer
-// keeps one set): the vertex copy, the triangle normals, each scene's triangles and quads,
-// and the Embree scenes. A frame loop then neither faults in nor unmaps these tens of MB
-// every frame. Their contents are rebuilt from scratch each frame.
+// keeps one set): a padded copy of the positions (where the mesh's own cannot be shared),
+// the triangle normals, each scene's triangles and quads, and the Embree scenes. A frame
+// loop then neither faults in nor unmaps these buffers every frame. Their contents are
+// rebuilt from scratch each frame.
 struct TracerBuffers {
   explicit TracerBuffers(RTCDevice device)
       : scenes{EmbreeScene(device), EmbreeScene(device), EmbreeScene(device)} {}
