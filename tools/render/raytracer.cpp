@@ -175,16 +175,6 @@ class PixelSampler {
 
   const Vec3& eye() const { return eye_; }
 
-  // The direction of sample k of pixel (x, y).
-  Vec3 direction(int x, int y, int k) const {
-    std::array<float, 3> d;
-    if (samples_ == 1)
-      aim_lane<true>(x, y, k, d[0], d[1], d[2]);
-    else
-      aim_lane<false>(x, y, k, d[0], d[1], d[2]);
-    return {d[0], d[1], d[2]};
-  }
-
   // Adds sample k of pixel (x, y) to a packet; aim() then sets its ray.
   static void add(PacketRays& rays, int x, int y, int k) {
     const auto i = std::size_t(rays.count++);
@@ -1074,7 +1064,7 @@ Image Renderer::Impl::frame(const SurfaceMesh& mesh, const Camera& camera, Frame
       put(i, colour / float(s.samples));
     }
     // Pixels that need only the print: their extra samples aimed 16 at a time (aim() is
-    // vectorised; one direction() per sample was a third of this part), the print looked up
+    // vectorised; aiming one sample at a time was a third of this part), the print looked up
     // where each meets the pixel's print triangle, then each pixel's mean in sample order.
     PacketRays print_rays;
     std::array<std::uint32_t, kPacket> print_tri{};
