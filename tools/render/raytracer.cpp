@@ -851,8 +851,8 @@ bool differs_from_neighbours(int width, int height, int x, int y, const Value& v
 // and lower neighbours are runs at fixed offsets, so the differences are taken channel by
 // channel in loops without branches or gathers that the compiler vectorises; the pixels in
 // the image's first and last columns, whose left or right neighbour is not in the image, are
-// then tested one by one. Every pixel of a frame is tested: per pixel, with early exits, this
-// was about a tenth of pass 2's time (branches mispredicted on printed areas).
+// then tested one by one. Every pixel of a frame is tested: per pixel, with early exits, the
+// test and its bookkeeping took about a tenth of pass 2's time on a torn frame.
 void tile_contrast(const Vec3* value, int width, int height, int x0, int y0, int x1, int y1,
                    std::array<std::uint8_t, kTile * kTile>& out) {
   const auto row_step = std::ptrdiff_t(3) * width;
