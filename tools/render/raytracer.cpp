@@ -955,7 +955,6 @@ struct Renderer::Impl {
   Image frame(const SurfaceMesh& mesh, const Camera& camera, FrameBuffers& kept) const;
 };
 
-
 Renderer::Renderer(const RenderSettings& settings) : impl_(std::make_unique<Impl>(settings)) {}
 Renderer::~Renderer() = default;
 Renderer::Renderer(Renderer&&) noexcept = default;
