@@ -1,7 +1,9 @@
 // Rendering: the display mesh (surface extraction with frayed fibres and peeled skins) and
 // one ray-traced 1280 × 720 frame at the default settings (4 samples per pixel, soft
 // shadows), of the paper's 90 × 90 × 5 sheet intact and torn in two:
-//   render/surface/<state>/90x90x5/threads:<t>   build_surface_mesh
+//   render/surface/<state>/90x90x5/threads:<t>   build_surface_mesh (a fresh mesh each time)
+//   render/surface_kept/<state>/90x90x5/threads:<t>  the same into one mesh kept across
+//                                                 iterations, as a frame loop does
 //   render/frame/<state>/90x90x5/threads:<t>     Renderer::draw (mesh + Embree scene + trace)
 // The torn sheet is the default scene pulled 4x faster so it comes apart in a few hundred
 // untimed setup steps; its mesh has the fibres and skins a torn frame of a real run has.
@@ -36,14 +38,22 @@ const World& sheet(SheetState state) {
   return sim->world();
 }
 
-void render_surface(benchmark::State& state, SheetState s, int threads) {
+void render_surface(benchmark::State& state, SheetState s, int threads, bool kept) {
   const World& world = sheet(s);
   tbb::task_arena arena(threads);
   render::Renderer renderer(render::RenderSettings{});
+  render::SurfaceMesh mesh;
   std::size_t triangles = 0;
   for (auto _ : state) {
     const double t = timed([&] {
-      arena.execute([&] { triangles = render::build_surface_mesh(world, renderer.mesh_options()).triangle_count(); });
+      arena.execute([&] {
+        if (kept) {
+          render::build_surface_mesh(world, renderer.mesh_options(), mesh);
+          triangles = mesh.triangle_count();
+        } else {  // built and freed
+          triangles = render::build_surface_mesh(world, renderer.mesh_options()).triangle_count();
+        }
+      });
     });
     state.SetIterationTime(t);
   }
@@ -69,7 +79,8 @@ void register_render_benchmarks() {
     const std::string state = s == SheetState::intact ? "intact" : "torn";
     for (int threads : {1, 2}) {
       const std::string suffix = state + "/90x90x5/threads:" + std::to_string(threads);
-      register_timed("render/surface/" + suffix, benchmark::kMillisecond, render_surface, s, threads);
+      register_timed("render/surface/" + suffix, benchmark::kMillisecond, render_surface, s, threads, false);
+      register_timed("render/surface_kept/" + suffix, benchmark::kMillisecond, render_surface, s, threads, true);
       register_timed("render/frame/" + suffix, benchmark::kMillisecond, render_frame, s, threads);
     }
   }

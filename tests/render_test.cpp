@@ -10,6 +10,7 @@
 #include <map>
 #include <set>
 #include <string>
+#include <thread>
 
 #include <oneapi/tbb/task_arena.h>
 #include <toml++/toml.h>
@@ -218,6 +219,39 @@ TEST_CASE("frayed fibres stick out of torn faces only, the same way every time",
       if (narrow.position[v][0] < cut + 0.1f) CHECK(narrow.position[v][0] <= cut + 0.1f * 1.5f + 1e-4f);
 }
 
+void check_same_mesh(const SurfaceMesh& m, const SurfaceMesh& one) {
+  CHECK(m.position == one.position);
+  CHECK(m.normal == one.normal);
+  CHECK(m.uv == one.uv);
+  CHECK(m.node == one.node);
+  CHECK(m.original_node == one.original_node);
+  CHECK(m.triangles == one.triangles);
+  CHECK(m.material == one.material);
+  CHECK(m.kind == one.kind);
+  CHECK(m.cell == one.cell);
+  CHECK(m.opacity == one.opacity);
+  CHECK(m.shade == one.shade);
+}
+
+TEST_CASE("a surface mesh built into a used one is the same as a fresh one", "[render]") {
+  World big = torn_sheet(40, 30, 3, 1.0f);
+  split_off(big, [](int i, int j, int k) { return k == 2 && i < 10 && j < 20; });
+  const World small = torn_sheet(12, 8, 2, 0.5f);
+  const World intact = make_sheet(20, 16, 3);
+  const MeshOptions options{.fray = true, .fray_length = 0.45f, .layer_opacity = 0.7f};
+  const SurfaceMesh fresh_big = build_surface_mesh(big, options);
+  const SurfaceMesh fresh_small = build_surface_mesh(small, options);
+  REQUIRE(fresh_big.triangle_count() > 2 * fresh_small.triangle_count());
+  // Shrinking, growing past the capacity, and a mesh with no fibres in between.
+  SurfaceMesh used;
+  for (const World* w : std::initializer_list<const World*>{&small, &big, &intact, &small, &big}) {
+    build_surface_mesh(*w, options, used);
+    if (w == &intact) continue;
+    INFO((w == &big ? "big" : "small"));
+    check_same_mesh(used, w == &big ? fresh_big : fresh_small);
+  }
+}
+
 TEST_CASE("the surface mesh has the same bytes on any number of threads", "[render]") {
   // Two tears, so that fibres come from several of the fixed chunks of faces, and a peeled
   // skin (separated faces, translucent cells).
@@ -234,17 +268,7 @@ TEST_CASE("the surface mesh has the same bytes on any number of threads", "[rend
     SurfaceMesh m;
     tbb::task_arena(threads).execute([&] { m = build_surface_mesh(w, options); });
     INFO(threads << " threads");
-    CHECK(m.position == one.position);
-    CHECK(m.normal == one.normal);
-    CHECK(m.uv == one.uv);
-    CHECK(m.node == one.node);
-    CHECK(m.original_node == one.original_node);
-    CHECK(m.triangles == one.triangles);
-    CHECK(m.material == one.material);
-    CHECK(m.kind == one.kind);
-    CHECK(m.cell == one.cell);
-    CHECK(m.opacity == one.opacity);
-    CHECK(m.shade == one.shade);
+    check_same_mesh(m, one);
   }
   // Each fibre triangle has three vertices of its own, in order after the faces'.
   const SurfaceMesh plain = build_surface_mesh(w, {.fray = false});
@@ -525,6 +549,60 @@ TEST_CASE("the same state renders to the same bytes", "[render]") {
     INFO(threads << " threads");
     CHECK(c == a);
   }
+}
+
+TEST_CASE("a renderer's buffers kept from frame to frame do not change a frame", "[render]") {
+  // A renderer keeps its mesh, scenes and pass buffers for the next draw(): frames of other
+  // states in between (more and fewer triangles, no skins, nothing torn) leave A's bytes as a
+  // fresh renderer draws them, on any number of threads.
+  World a = torn_sheet(16, 10, 3, 1.0f);
+  split_off(a, [&](int i, int j, int k) { return i < 4 && j < 4 && k == 2; });
+  for (std::uint32_t c = 0; c < a.topo.dims.cells(); ++c) {
+    const auto ijk = a.topo.dims.cell_ijk(c);
+    if (ijk[0] < 4 && ijk[1] < 4 && ijk[2] == 2)
+      for (int q = 0; q < 8; ++q) a.nodes.pz[a.topo.node(c, q)] = float(ijk[2] + (q >> 2)) + 0.8f;
+  }
+  const World b = torn_sheet(24, 14, 3, 0.6f);
+  const World plain = make_sheet(10, 8, 2);
+  Renderer fresh(small_frame(128, 80));
+  const Camera cam = fresh.camera_for(a);
+  const std::vector<std::uint8_t> a_fresh = encode_png(fresh.draw(a, cam));
+  const std::vector<std::uint8_t> b_fresh = encode_png(Renderer(small_frame(128, 80)).draw(b, cam));
+  Renderer kept(small_frame(128, 80));
+  CHECK(encode_png(kept.draw(b, cam)) == b_fresh);
+  CHECK(encode_png(kept.draw(a, cam)) == a_fresh);
+  CHECK(encode_png(kept.draw(plain, cam)) == encode_png(Renderer(small_frame(128, 80)).draw(plain, cam)));
+  CHECK(encode_png(kept.draw(b, cam)) == b_fresh);
+  CHECK(encode_png(kept.draw(build_surface_mesh(a, kept.mesh_options()), cam)) == a_fresh);
+  // Embree reads the mesh's positions in place when a spare element follows them, else a
+  // padded copy: the same frame either way.
+  SurfaceMesh tight = build_surface_mesh(a, kept.mesh_options());
+  REQUIRE(tight.position.capacity() > tight.position.size());
+  tight.position.shrink_to_fit();
+  if (tight.position.capacity() == tight.position.size()) CHECK(encode_png(kept.draw(tight, cam)) == a_fresh);
+  for (int threads : {1, 2, 3, 16}) {
+    std::vector<std::uint8_t> c, d;
+    tbb::task_arena(threads).execute([&] {
+      c = encode_png(kept.draw(a, cam));
+      d = encode_png(kept.draw(b, cam));
+    });
+    INFO(threads << " threads");
+    CHECK(c == a_fresh);
+    CHECK(d == b_fresh);
+  }
+}
+
+TEST_CASE("one renderer draws from several threads at once", "[render]") {
+  // The calls that find the kept buffers in use draw with their own: the same bytes.
+  const World a = torn_sheet(16, 10, 3, 1.0f);
+  Renderer renderer(small_frame(96, 64));
+  const Camera cam = renderer.camera_for(a);
+  const std::vector<std::uint8_t> once = encode_png(renderer.draw(a, cam));
+  std::vector<std::vector<std::uint8_t>> frames(4);
+  std::vector<std::thread> threads;
+  for (auto& f : frames) threads.emplace_back([&] { f = encode_png(renderer.draw(a, cam)); });
+  for (auto& t : threads) t.join();
+  for (const auto& f : frames) CHECK(f == once);
 }
 
 TEST_CASE("the default camera keeps the whole sheet in the frame", "[render]") {

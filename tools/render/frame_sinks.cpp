@@ -46,7 +46,8 @@ class RenderSink final : public io::FrameSink {
     const bool last = frame + 1 == frames;
     const bool mesh_due = (output_.glb || output_.obj) && (output_.mesh_every_frame || last);
     if (!output_.png && !mesh_due) return;
-    const SurfaceMesh mesh = build_surface_mesh(sim.world(), renderer_.mesh_options());
+    build_surface_mesh(sim.world(), renderer_.mesh_options(), mesh_);
+    const SurfaceMesh& mesh = mesh_;
     if (output_.png) write_png(frames_dir() / numbered(output_.prefix, frame, ".png"), renderer_.draw(mesh, *camera_));
     if (!mesh_due) return;
     ExportOptions options;
@@ -63,6 +64,7 @@ class RenderSink final : public io::FrameSink {
   std::filesystem::path mesh_dir() const { return out_dir_ / "mesh"; }
 
   Renderer renderer_;
+  SurfaceMesh mesh_;  // rebuilt in place each frame: its memory stays mapped
   OutputSettings output_;
   std::filesystem::path out_dir_;
   std::optional<Camera> camera_;

@@ -28,32 +28,37 @@ bool join(const SurfaceMesh& mesh, std::uint32_t s, std::uint32_t t, TracedQuad&
 }  // namespace
 
 std::vector<TracedQuad> pair_triangles(const SurfaceMesh& mesh, const std::vector<std::uint32_t>& tris) {
+  std::vector<TracedQuad> quads;
+  pair_triangles(mesh, tris, quads);
+  return quads;
+}
+
+void pair_triangles(const SurfaceMesh& mesh, const std::vector<std::uint32_t>& tris, std::vector<TracedQuad>& quads) {
   // Pairs are formed greedily within fixed chunks (of an even size, so the mesh's pairs,
   // which start at even positions, are not cut), in parallel; chunk c's quads follow
   // chunk c - 1's.
   constexpr std::size_t kChunk = 8192;
   std::vector<std::vector<TracedQuad>> parts(chunk_count(tris.size(), kChunk));
   parallel_chunks(tris.size(), kChunk, [&](std::size_t begin, std::size_t end, std::size_t c) {
-    std::vector<TracedQuad>& quads = parts[c];
-    quads.reserve((end - begin) / 2 + 1);
+    std::vector<TracedQuad>& part = parts[c];
+    part.reserve((end - begin) / 2 + 1);
     for (std::size_t i = begin; i < end;) {
       TracedQuad q;
       if (i + 1 < end && join(mesh, tris[i], tris[i + 1], q)) {
-        quads.push_back(q);
+        part.push_back(q);
         i += 2;
       } else {
         const auto& a = mesh.triangles[tris[i]];
-        quads.push_back({{a[0], a[1], a[2], a[2]}, {tris[i], tris[i]}, Pairing::single});
+        part.push_back({{a[0], a[1], a[2], a[2]}, {tris[i], tris[i]}, Pairing::single});
         i += 1;
       }
     }
   });
-  std::vector<TracedQuad> quads;
   std::size_t count = 0;
   for (const auto& part : parts) count += part.size();
+  quads.clear();
   quads.reserve(count);
   for (const auto& part : parts) quads.insert(quads.end(), part.begin(), part.end());
-  return quads;
 }
 
 TrianglePoint on_triangle(const TracedQuad& quad, float u, float v) {

@@ -37,6 +37,8 @@ struct TrianglePoint {
 // they share the diagonal; the quads keep the triangles' order. Runs in parallel in fixed
 // chunks: the result does not depend on the thread count.
 std::vector<TracedQuad> pair_triangles(const SurfaceMesh& mesh, const std::vector<std::uint32_t>& tris);
+// The same into `quads`, which keeps its capacity (a frame loop reuses one list).
+void pair_triangles(const SurfaceMesh& mesh, const std::vector<std::uint32_t>& tris, std::vector<TracedQuad>& quads);
 
 // The mesh triangle and its barycentrics at quad coordinates (u, v) of an Embree hit.
 TrianglePoint on_triangle(const TracedQuad& quad, float u, float v);

@@ -5,7 +5,9 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstddef>
 #include <limits>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -83,14 +85,33 @@ class SrgbEncoder {
   std::array<std::uint8_t, kSteps + 1> lut_{};
 };
 
+// A scene with at most one geometry (id 0), kept from frame to frame: rebuilding a live
+// scene reuses its BVH's memory blocks, where a fresh scene allocates (and faults in) new ones.
 struct EmbreeScene {
   RTCScene scene = nullptr;
+  RTCGeometry geometry = nullptr;  // attached as id 0, or none
   explicit EmbreeScene(RTCDevice device) : scene(rtcNewScene(device)) {}
   ~EmbreeScene() {
+    if (geometry) rtcReleaseGeometry(geometry);
     if (scene) rtcReleaseScene(scene);
   }
   EmbreeScene(const EmbreeScene&) = delete;
   EmbreeScene& operator=(const EmbreeScene&) = delete;
+
+  // The scene's geometry, a new one of `type` attached if it has none.
+  RTCGeometry use_geometry(RTCDevice device, RTCGeometryType type) {
+    if (!geometry) {
+      geometry = rtcNewGeometry(device, type);
+      rtcAttachGeometryByID(scene, geometry, 0);
+    }
+    return geometry;
+  }
+  void drop_geometry() {
+    if (!geometry) return;
+    rtcDetachGeometry(scene, 0);
+    rtcReleaseGeometry(geometry);
+    geometry = nullptr;
+  }
 };
 
 void check_device(RTCDevice device, const char* what) {
@@ -113,34 +134,6 @@ const RenderSettings& checked(const RenderSettings& s) {
 }
 
 }  // namespace
-
-struct Renderer::Impl {
-  RenderSettings settings;
-  Image print;
-  Texture texture;
-  SrgbEncoder encode;
-  Look look{};
-  RTCDevice device = nullptr;
-
-  explicit Impl(const RenderSettings& s) : settings(checked(s)), print(load_print(s.print)), texture(print) {
-    device = rtcNewDevice(nullptr);
-    if (!device) throw RenderError("Embree: cannot create a device (error " + std::to_string(int(rtcGetDeviceError(nullptr))) + ")");
-    look.background = linear_colour(s.background);
-    look.paper = linear_colour(s.paper_color);
-    look.to_light = -Vec3(float(s.light.direction[0]), float(s.light.direction[1]), float(s.light.direction[2])).normalized();
-    const Vec3 helper = std::abs(look.to_light.z()) < 0.9f ? Vec3(0, 0, 1) : Vec3(1, 0, 0);
-    look.light_u = look.to_light.cross(helper).normalized();
-    look.light_v = look.to_light.cross(look.light_u);
-    look.softness = float(s.light.softness);
-    look.intensity = float(s.light.intensity);
-    look.ambient = float(s.light.ambient);
-    look.exposure = float(s.exposure);
-    look.print_enabled = s.print.enabled;
-  }
-  ~Impl() {
-    if (device) rtcReleaseDevice(device);
-  }
-};
 
 namespace {
 
@@ -181,16 +174,6 @@ class PixelSampler {
         ty_(c.tan_half_fov_y), tx_(c.tan_half_fov_y * c.aspect), width_(width), height_(height), samples_(samples) {}
 
   const Vec3& eye() const { return eye_; }
-
-  // The direction of sample k of pixel (x, y).
-  Vec3 direction(int x, int y, int k) const {
-    std::array<float, 3> d;
-    if (samples_ == 1)
-      aim_lane<true>(x, y, k, d[0], d[1], d[2]);
-    else
-      aim_lane<false>(x, y, k, d[0], d[1], d[2]);
-    return {d[0], d[1], d[2]};
-  }
 
   // Adds sample k of pixel (x, y) to a packet; aim() then sets its ray.
   static void add(PacketRays& rays, int x, int y, int k) {
@@ -296,14 +279,28 @@ enum SceneId : unsigned { kOpaque = 0, kSkinsView = 1, kSkinsLight = 2 };
 constexpr unsigned kScenes = 3;
 constexpr float kFar = std::numeric_limits<float>::infinity();
 
+// What a frame's tracer builds, kept for the next frame to build into again (the Renderer
+// keeps one set): a padded copy of the positions (where the mesh's own cannot be shared),
+// the triangle normals, each scene's triangles and quads, and the Embree scenes. A frame
+// loop then neither faults in nor unmaps these buffers every frame. Their contents are
+// rebuilt from scratch each frame.
+struct TracerBuffers {
+  explicit TracerBuffers(RTCDevice device)
+      : scenes{EmbreeScene(device), EmbreeScene(device), EmbreeScene(device)} {}
+  MeshArray<float> vertices;
+  MeshArray<Vec3> tri_normal;
+  std::array<std::vector<std::uint32_t>, kScenes> tris;
+  std::array<std::vector<TracedQuad>, kScenes> quads;  // primitives of each scene (SceneId)
+  std::array<EmbreeScene, kScenes> scenes;
+};
 
 // Everything a tile needs to trace one frame; read-only while tracing.
 class FrameTracer {
  public:
   FrameTracer(RTCDevice device, const SurfaceMesh& mesh, const Look& look, const Texture& texture,
-              const PixelSampler& sampler)
-      : mesh_(mesh), look_(look), texture_(texture),
-        scenes_{EmbreeScene(device), EmbreeScene(device), EmbreeScene(device)} {
+              const PixelSampler& sampler, TracerBuffers& buffers)
+      : mesh_(mesh), look_(look), texture_(texture), vertices_(buffers.vertices), tri_normal_(buffers.tri_normal),
+        tris_(buffers.tris), quads_(buffers.quads), scenes_(buffers.scenes) {
     build(device, sampler.eye());
     // Primary rays of pixels whose rays cannot meet a scene's bounding box are left out of
     // its query, and a query with none left is not made (the background around the sheet;
@@ -582,10 +579,10 @@ class FrameTracer {
   }
 
   void build(RTCDevice device, const Vec3& eye) {
-    const std::array<std::vector<std::uint32_t>, kScenes> tris = sort_triangles(eye);
-    copy_vertices();
+    sort_triangles(eye);
+    share_vertices();
     for (unsigned g = 0; g < kScenes; ++g) {
-      quads_[g] = pair_triangles(mesh_, tris[g]);
+      pair_triangles(mesh_, tris_[g], quads_[g]);
       attach(device, g);
       // Robust: no shortcuts that let rays slip between triangles sharing an edge.
       rtcSetSceneFlags(scenes_[g].scene, RTC_SCENE_FLAG_ROBUST);
@@ -599,7 +596,7 @@ class FrameTracer {
 
   // Each triangle's unit normal; the triangles of each scene (SceneId), ascending. In
   // parallel over fixed chunks, the lists joined in chunk order.
-  std::array<std::vector<std::uint32_t>, kScenes> sort_triangles(const Vec3& eye) {
+  void sort_triangles(const Vec3& eye) {
     constexpr std::size_t kChunk = 16384;
     // Margins keep triangles seen (nearly) edge-on in both scenes. A shadow ray's direction
     // lies within `softness` of the light's centre, so n . d differs from n . to_light by
@@ -632,24 +629,31 @@ class FrameTracer {
         }
       }
     });
-    std::array<std::vector<std::uint32_t>, kScenes> tris;
-    for (unsigned g = 0; g < kScenes; ++g)
-      for (const auto& part : parts) tris[g].insert(tris[g].end(), part[g].begin(), part[g].end());
-    return tris;
+    for (unsigned g = 0; g < kScenes; ++g) {
+      tris_[g].clear();
+      for (const auto& part : parts) tris_[g].insert(tris_[g].end(), part[g].begin(), part[g].end());
+    }
   }
 
-  // One copy of the vertices for both scenes (Embree reads up to 16 bytes at a time, hence
-  // the padding), and the ray offset off surfaces scaled to the mesh's extent.
-  void copy_vertices() {
+  // The vertices both scenes read, and the ray offset off surfaces scaled to the mesh's
+  // extent. Embree loads 16 bytes at a vertex, 4 past the last one's position: the mesh's own
+  // array is shared when it has a spare element's room after its end (SurfaceMesh::resize
+  // leaves one), else the positions are copied into a padded buffer.
+  void share_vertices() {
     constexpr std::size_t kChunk = 65536;
     const std::size_t nv = mesh_.vertex_count();
-    vertices_.resize(3 * nv + 4, 0.0f);
+    const bool spare = mesh_.position.capacity() > nv;
+    if (!spare) {
+      vertices_.resize(3 * nv + 4);
+      std::fill(vertices_.end() - 4, vertices_.end(), 0.0f);
+    }
+    vertex_data_ = spare ? mesh_.position.data()->data() : vertices_.data();
     std::vector<float> extent(chunk_count(nv, kChunk), 0.0f);
     parallel_chunks(nv, kChunk, [&](std::size_t begin, std::size_t end, std::size_t c) {
       float e = 0.0f;
       for (std::size_t i = begin; i < end; ++i)
         for (std::size_t k = 0; k < 3; ++k) {
-          vertices_[3 * i + k] = mesh_.position[i][k];
+          if (!spare) vertices_[3 * i + k] = mesh_.position[i][k];
           e = std::max(e, std::abs(mesh_.position[i][k]));
         }
       extent[c] = e;
@@ -658,28 +662,26 @@ class FrameTracer {
     for (float e : extent) eps_ = std::max(eps_, 2e-5f * e);
   }
 
-  // Puts the quads quads_[g] into scene g; its primitive p is quads_[g][p].
+  // Puts the quads quads_[g] into scene g; its primitive p is quads_[g][p]. Embree reads
+  // the vertices and the quads' corners where they are (shared buffers, no copies).
   void attach(RTCDevice device, unsigned g) {
     const std::vector<TracedQuad>& quads = quads_[g];
-    if (quads.empty()) return;
-    RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_QUAD);
-    rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, vertices_.data(), 0,
+    if (quads.empty()) {
+      scenes_[g].drop_geometry();
+      return;
+    }
+    RTCGeometry geom = scenes_[g].use_geometry(device, RTC_GEOMETRY_TYPE_QUAD);
+    rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, vertex_data_, 0,
                                3 * sizeof(float), mesh_.vertex_count());
-    auto* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT4,
-                                                              4 * sizeof(unsigned), quads.size()));
-    check_device(device, "allocating geometry");
-    parallel_chunks(quads.size(), 65536, [&](std::size_t begin, std::size_t end, std::size_t) {
-      for (std::size_t p = begin; p < end; ++p)
-        for (std::size_t c = 0; c < 4; ++c) ib[4 * p + c] = quads[p].vertex[c];
-    });
+    rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT4, quads.data(),
+                               offsetof(TracedQuad, vertex), sizeof(TracedQuad), quads.size());
     if (g != kOpaque) {
       geometry_[g] = {this, &quads_[g]};
       rtcSetGeometryUserData(geom, &geometry_[g]);
       rtcSetGeometryOccludedFilterFunction(geom, &FrameTracer::gather_entering);
     }
     rtcCommitGeometry(geom);
-    rtcAttachGeometry(scenes_[g].scene, geom);
-    rtcReleaseGeometry(geom);
+    check_device(device, "setting up geometry");
   }
 
   // The point of the mesh of lane i's candidate hit in a filter of the skin scene, and
@@ -783,16 +785,19 @@ class FrameTracer {
   const SurfaceMesh& mesh_;
   const Look& look_;
   const Texture& texture_;
-  std::vector<float> vertices_;
-  std::vector<Vec3> tri_normal_;
-  std::array<std::vector<TracedQuad>, kScenes> quads_;  // primitives of each scene (SceneId)
+  // In the TracerBuffers the tracer was given.
+  MeshArray<float>& vertices_;  // a padded copy of the positions, where needed (share_vertices)
+  const float* vertex_data_ = nullptr;  // what Embree reads
+  MeshArray<Vec3>& tri_normal_;
+  std::array<std::vector<std::uint32_t>, kScenes>& tris_;  // the triangles of each scene (SceneId)
+  std::array<std::vector<TracedQuad>, kScenes>& quads_;    // primitives of each scene
   // What a skin scene's filter is handed: the tracer and that scene's primitives.
   struct GeometryData {
     const FrameTracer* tracer;
     const std::vector<TracedQuad>* quads;
   };
   std::array<GeometryData, kScenes> geometry_{};
-  std::array<EmbreeScene, kScenes> scenes_;
+  std::array<EmbreeScene, kScenes>& scenes_;
   // Per scene for primary rays (kOpaque, kSkinsView): the pixels whose rays may meet it.
   std::array<PixelRect, kScenes> pixels_{};
   float eps_ = 1e-4f;
@@ -824,11 +829,12 @@ void for_each_pixel_by_block(int x0, int y0, int x1, int y1, const Pixel& pixel)
         for (int x = bx; x < std::min(bx + kBlock, x1); ++x) pixel(x, y);
 }
 
+constexpr float kContrast = 0.015f;  // in linear light, about 1.5 % of white
+
 // Whether a pixel's value differs visibly from one of its four neighbours'; value(i) is
 // pixel i's.
 template <class Value>
 bool differs_from_neighbours(int width, int height, int x, int y, const Value& value) {
-  constexpr float kContrast = 0.015f;  // in linear light, about 1.5 % of white
   const auto at = [&](int px, int py) -> const Vec3& { return value(std::size_t(py) * std::size_t(width) + std::size_t(px)); };
   const Vec3& c = at(x, y);
   const int dx[4] = {-1, 1, 0, 0}, dy[4] = {0, 0, -1, 1};
@@ -840,15 +846,57 @@ bool differs_from_neighbours(int width, int height, int x, int y, const Value& v
   return false;
 }
 
+// differs_from_neighbours() for every pixel of a tile at once, out[(y - y0) * kTile + x - x0],
+// with the same result. A row of the tile is one run of floats, and its left, right, upper
+// and lower neighbours are runs at fixed offsets, so the differences are taken channel by
+// channel in loops without branches or gathers that the compiler vectorises; the pixels in
+// the image's first and last columns, whose left or right neighbour is not in the image, are
+// then tested one by one. Every pixel of a frame is tested: per pixel, with early exits, the
+// test and its bookkeeping took about a tenth of pass 2's time on a torn frame.
+void tile_contrast(const Vec3* value, int width, int height, int x0, int y0, int x1, int y1,
+                   std::array<std::uint8_t, kTile * kTile>& out) {
+  const auto row_step = std::ptrdiff_t(3) * width;
+  // The run: pixels with both a left and a right neighbour in the image.
+  const int xs = std::max(x0, 1), xe = std::min(x1, width - 1);
+  const auto n = std::size_t(3 * std::max(xe - xs, 0));
+  alignas(64) std::array<float, 3 * kTile> diff;
+  const auto value_at = [&](std::size_t i) -> const Vec3& { return value[i]; };
+  for (int y = y0; y < y1; ++y) {
+    const float* c = value[std::size_t(y) * std::size_t(width) + std::size_t(xs)].data();
+    // An upper or lower neighbour outside the image is the pixel itself (difference 0).
+    const std::ptrdiff_t up = y > 0 ? -row_step : 0, down = y + 1 < height ? row_step : 0;
+    for (std::size_t e = 0; e < n; ++e) {
+      const auto i = std::ptrdiff_t(e);
+      const float here = c[i];
+      diff[e] = std::max(std::max(std::abs(c[i - 3] - here), std::abs(c[i + 3] - here)),
+                         std::max(std::abs(c[i + up] - here), std::abs(c[i + down] - here)));
+    }
+    std::uint8_t* row = out.data() + std::size_t(y - y0) * kTile;
+    for (std::size_t x = 0; x < n / 3; ++x)
+      row[std::size_t(xs - x0) + x] = std::max(std::max(diff[3 * x], diff[3 * x + 1]), diff[3 * x + 2]) > kContrast;
+    for (int x = x0; x < x1; ++x)
+      if (x < xs || x >= xe) row[x - x0] = differs_from_neighbours(width, height, x, y, value_at);
+  }
+}
+
 // One sample per pixel (adaptive sampling's first pass).
-// Its arrays are not cleared when allocated (every pixel is written): the pages are first
+// Its arrays are not cleared when sized (every pixel is written): fresh pages are first
 // touched by the threads tracing them, not by one thread beforehand.
 struct FirstPass {
-  explicit FirstPass(std::size_t pixels)
-      : colour(std::make_unique_for_overwrite<Vec3[]>(pixels)),
-        info(std::make_unique_for_overwrite<FrameTracer::SampleInfo[]>(pixels)) {}
-  std::unique_ptr<Vec3[]> colour;
-  std::unique_ptr<FrameTracer::SampleInfo[]> info;
+  void resize(std::size_t pixels) {
+    colour.resize(pixels);
+    info.resize(pixels);
+  }
+  MeshArray<Vec3> colour;
+  MeshArray<FrameTracer::SampleInfo> info;
+};
+
+// Everything a frame allocates that is large, kept by the Renderer for the next frame.
+struct FrameBuffers {
+  explicit FrameBuffers(RTCDevice device) : tracer(device) {}
+  SurfaceMesh mesh;  // draw(world, camera)'s
+  TracerBuffers tracer;
+  FirstPass first;
 };
 
 // What a pixel's remaining samples need. Where it differs from a neighbour in shading, at a
@@ -856,9 +904,9 @@ struct FirstPass {
 // (most such pixels of a printed sheet), the print is looked up where the samples would
 // meet the same flat surface, lit as the first sample. Flat areas are already converged.
 enum class Refinement { none, rays, print };
-Refinement refinement(const FirstPass& first, int width, int height, int x, int y) {
-  if (!differs_from_neighbours(width, height, x, y, [&](std::size_t i) -> const Vec3& { return first.colour[i]; }))
-    return Refinement::none;
+// `contrast`: whether its colour differs from a neighbour's (tile_contrast).
+Refinement refinement(const FirstPass& first, int width, int height, int x, int y, bool contrast) {
+  if (!contrast) return Refinement::none;
   if (differs_from_neighbours(width, height, x, y, [&](std::size_t i) -> const Vec3& { return first.info[i].plain; }))
     return Refinement::rays;
   const std::size_t i = std::size_t(y) * std::size_t(width) + std::size_t(x);
@@ -866,6 +914,46 @@ Refinement refinement(const FirstPass& first, int width, int height, int x, int 
 }
 
 }  // namespace
+
+struct Renderer::Impl {
+  RenderSettings settings;
+  Image print;
+  Texture texture;
+  SrgbEncoder encode;
+  Look look{};
+  RTCDevice device = nullptr;
+  // The buffers kept from one draw() to the next. draw() is const and may be called from
+  // several threads at once: a call that finds them in use works with buffers of its own.
+  std::mutex buffers_in_use;
+  std::unique_ptr<FrameBuffers> buffers;
+
+  explicit Impl(const RenderSettings& s) : settings(checked(s)), print(load_print(s.print)), texture(print) {
+    device = rtcNewDevice(nullptr);
+    if (!device) throw RenderError("Embree: cannot create a device (error " + std::to_string(int(rtcGetDeviceError(nullptr))) + ")");
+    look.background = linear_colour(s.background);
+    look.paper = linear_colour(s.paper_color);
+    look.to_light = -Vec3(float(s.light.direction[0]), float(s.light.direction[1]), float(s.light.direction[2])).normalized();
+    const Vec3 helper = std::abs(look.to_light.z()) < 0.9f ? Vec3(0, 0, 1) : Vec3(1, 0, 0);
+    look.light_u = look.to_light.cross(helper).normalized();
+    look.light_v = look.to_light.cross(look.light_u);
+    look.softness = float(s.light.softness);
+    look.intensity = float(s.light.intensity);
+    look.ambient = float(s.light.ambient);
+    look.exposure = float(s.exposure);
+    look.print_enabled = s.print.enabled;
+  }
+  ~Impl() {
+    buffers.reset();  // its scenes before the device
+    if (device) rtcReleaseDevice(device);
+  }
+
+  FrameBuffers& kept_buffers() {
+    if (!buffers) buffers = std::make_unique<FrameBuffers>(device);
+    return *buffers;
+  }
+
+  Image frame(const SurfaceMesh& mesh, const Camera& camera, FrameBuffers& kept) const;
+};
 
 Renderer::Renderer(const RenderSettings& settings) : impl_(std::make_unique<Impl>(settings)) {}
 Renderer::~Renderer() = default;
@@ -884,18 +972,30 @@ Camera Renderer::camera_for(const World& world) const {
 }
 
 Image Renderer::draw(const World& world, const Camera& camera) const {
-  return draw(build_surface_mesh(world, mesh_options()), camera);
+  std::unique_lock lock(impl_->buffers_in_use, std::try_to_lock);
+  if (!lock) return draw(build_surface_mesh(world, mesh_options()), camera);
+  FrameBuffers& buffers = impl_->kept_buffers();
+  build_surface_mesh(world, mesh_options(), buffers.mesh);
+  return impl_->frame(buffers.mesh, camera, buffers);
 }
 
 Image Renderer::draw(const SurfaceMesh& mesh, const Camera& camera) const {
-  const RenderSettings& s = impl_->settings;
+  std::unique_lock lock(impl_->buffers_in_use, std::try_to_lock);
+  if (lock) return impl_->frame(mesh, camera, impl_->kept_buffers());
+  FrameBuffers own(impl_->device);
+  return impl_->frame(mesh, camera, own);
+}
+
+Image Renderer::Impl::frame(const SurfaceMesh& mesh, const Camera& camera, FrameBuffers& kept) const {
+  const RenderSettings& s = settings;
   const PixelSampler sampler(camera, s.width, s.height, s.samples);
-  const FrameTracer tracer(impl_->device, mesh, impl_->look, impl_->texture, sampler);
+  const FrameTracer tracer(device, mesh, look, texture, sampler, kept.tracer);
   const std::size_t pixels = std::size_t(s.width) * std::size_t(s.height);
   // Pass 1: one ray per pixel. Pass 2: the remaining samples where a pixel needs them
   // (refinement()). Both passes read only pass 1's results, so the choice is deterministic.
   // Rays go out in packets of consecutive samples in a tile's block order.
-  FirstPass first(pixels);
+  FirstPass& first = kept.first;
+  first.resize(pixels);
   const auto index = [&](int x, int y) { return std::size_t(y) * std::size_t(s.width) + std::size_t(x); };
   for_each_tile(s.width, s.height, [&](int x0, int y0, int x1, int y1) {
     PacketRays rays;
@@ -919,8 +1019,7 @@ Image Renderer::draw(const SurfaceMesh& mesh, const Camera& camera) const {
     if (rays.count > 0) flush();
   });
   Image image(s.width, s.height);
-  const float exposure = impl_->look.exposure;
-  const SrgbEncoder& encode = impl_->encode;
+  const float exposure = look.exposure;
   const auto put = [&](std::size_t i, const Vec3& colour) {
     std::uint8_t* p = image.rgb.data() + 3 * i;
     for (int c = 0; c < 3; ++c) p[c] = encode(colour[c] * exposure);
@@ -931,6 +1030,7 @@ Image Renderer::draw(const SurfaceMesh& mesh, const Camera& camera) const {
     std::vector<std::size_t> pixel_of;
     std::vector<Vec3> sample;
     std::vector<std::array<int, 2>> print_only;
+    std::vector<Vec3> print_sample;  // the print at each extra sample of print_only's pixels
     PacketRays rays;
     auto flush = [&] {
       sampler.aim(rays);
@@ -938,9 +1038,12 @@ Image Renderer::draw(const SurfaceMesh& mesh, const Camera& camera) const {
       tracer.trace_packet(sampler.eye(), rays, sample.data() + sample.size() - std::size_t(rays.count));
       rays.count = 0;
     };
+    std::array<std::uint8_t, kTile * kTile> contrast;
+    if (s.samples > 1) tile_contrast(first.colour.data(), s.width, s.height, x0, y0, x1, y1, contrast);
     if (s.samples > 1)
       for_each_pixel_by_block(x0, y0, x1, y1, [&](int x, int y) {
-        const Refinement r = refinement(first, s.width, s.height, x, y);
+        const bool differs = contrast[std::size_t(y - y0) * kTile + std::size_t(x - x0)] != 0;
+        const Refinement r = refinement(first, s.width, s.height, x, y, differs);
         if (r == Refinement::print) print_only.push_back({x, y});
         if (r != Refinement::rays) return;
         for (int k = 1; k < s.samples; ++k) {
@@ -959,12 +1062,28 @@ Image Renderer::draw(const SurfaceMesh& mesh, const Camera& camera) const {
       for (; j < pixel_of.size() && pixel_of[j] == i; ++j) colour += sample[j];
       put(i, colour / float(s.samples));
     }
-    for (const auto& [x, y] : print_only) {
-      const std::size_t i = index(x, y);
-      const FrameTracer::SampleInfo& f = first.info[i];
+    // Pixels that need only the print: their extra samples aimed 16 at a time (aim() is
+    // vectorised; aiming one sample at a time was a third of this part), the print looked up
+    // where each meets the pixel's print triangle, then each pixel's mean in sample order.
+    PacketRays print_rays;
+    std::array<std::uint32_t, kPacket> print_tri{};
+    auto flush_print = [&] {
+      sampler.aim(print_rays);
+      for (int l = 0; l < print_rays.count; ++l)
+        print_sample.push_back(tracer.print_along(print_tri[std::size_t(l)], sampler.eye(), print_rays.dir[std::size_t(l)]));
+      print_rays.count = 0;
+    };
+    for (const auto& [x, y] : print_only)
+      for (int k = 1; k < s.samples; ++k) {
+        print_tri[std::size_t(print_rays.count)] = first.info[index(x, y)].print_tri;
+        sampler.add(print_rays, x, y, k);
+        if (print_rays.count == kPacket) flush_print();
+      }
+    if (print_rays.count > 0) flush_print();
+    for (std::size_t p = 0, j = 0; p < print_only.size(); ++p) {
+      const std::size_t i = index(print_only[p][0], print_only[p][1]);
       Vec3 colour = first.colour[i];
-      for (int k = 1; k < s.samples; ++k)
-        colour += f.lighting * tracer.print_along(f.print_tri, sampler.eye(), sampler.direction(x, y, k));
+      for (int k = 1; k < s.samples; ++k) colour += first.info[i].lighting * print_sample[j++];
       put(i, colour / float(s.samples));
     }
   });

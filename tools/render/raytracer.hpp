@@ -1,10 +1,13 @@
 // Ray-traced frames of the display mesh (Embree 3).
 //
 // One frame: the world's surface mesh (surface.hpp: print, paper, fibres, peeled skins) goes
-// into three fresh Embree scenes, opaque surfaces, peeled skins facing the eye and skins for
+// into three Embree scenes, opaque surfaces, peeled skins facing the eye and skins for
 // shadow rays (each without the triangles its rays cannot need: raytracer.cpp), their
-// triangles paired into quads (quads.hpp); the image is cut into 32 x 32 pixel tiles that are traced in
-// parallel (kernels/parallel.hpp: TBB, fixed chunks). Within a tile, rays go to Embree as
+// triangles paired into quads (quads.hpp). The renderer keeps the mesh, the scenes and the
+// passes' buffers for the next frame, which rebuilds them in place: a frame loop does not
+// fault in and unmap them every frame (the mesh alone is ~40 MB for a torn 90 x 90 x 5
+// sheet). The image is cut into 32 x 32 pixel tiles that are traced in parallel
+// (kernels/parallel.hpp: TBB, fixed chunks). Within a tile, rays go to Embree as
 // packets of 16 (4 x 4 pixel blocks): one query finds their nearest opaque surfaces, one
 // gathers the skins in front of them, and the shadow rays of all surfaces seen go out 16 at
 // a time. Which rays share a packet depends only on the tile, and every "random" number
@@ -49,6 +52,8 @@ class Renderer {
   // animation, take it once from the first frame and pass it to every draw().
   Camera camera_for(const World& world) const;
 
+  // A frame of the world, or of a mesh already built. Safe to call from several threads at
+  // once: a call that finds the kept buffers in use by another allocates its own.
   Image draw(const World& world, const Camera& camera) const;
   Image draw(const SurfaceMesh& mesh, const Camera& camera) const;
 

@@ -10,18 +10,35 @@
 
 namespace papertear::render {
 
+namespace {
+
+// resize() of one array without copying its entries when it grows: every entry is rewritten.
+// Room for a few more (tears only grow) spares the next frames a reallocation, and at least
+// one spare element lets the ray tracer hand the positions to Embree as they are (it loads
+// 16 bytes at a vertex).
+template <class T>
+void resize_for_overwrite(MeshArray<T>& a, std::size_t n) {
+  if (n >= a.capacity()) {
+    a.clear();
+    a.reserve(n + n / 16 + 1);
+  }
+  a.resize(n);
+}
+
+}  // namespace
+
 void SurfaceMesh::resize(std::size_t vertices, std::size_t triangle_slots) {
-  position.resize(vertices);
-  normal.resize(vertices);
-  uv.resize(vertices);
-  node.resize(vertices);
-  original_node.resize(vertices);
-  triangles.resize(triangle_slots);
-  material.resize(triangle_slots);
-  kind.resize(triangle_slots);
-  cell.resize(triangle_slots);
-  opacity.resize(triangle_slots);
-  shade.resize(triangle_slots);
+  resize_for_overwrite(position, vertices);
+  resize_for_overwrite(normal, vertices);
+  resize_for_overwrite(uv, vertices);
+  resize_for_overwrite(node, vertices);
+  resize_for_overwrite(original_node, vertices);
+  resize_for_overwrite(triangles, triangle_slots);
+  resize_for_overwrite(material, triangle_slots);
+  resize_for_overwrite(kind, triangle_slots);
+  resize_for_overwrite(cell, triangle_slots);
+  resize_for_overwrite(opacity, triangle_slots);
+  resize_for_overwrite(shade, triangle_slots);
 }
 
 void SurfaceMesh::set_vertex(std::uint32_t i, const std::array<float, 3>& p, const std::array<float, 3>& n,
@@ -107,6 +124,12 @@ std::vector<OpenFace> open_faces(const World& world, const std::vector<std::uint
 std::vector<OpenFace> open_faces(const World& world) { return open_faces(world, open_face_masks(world)); }
 
 SurfaceMesh build_surface_mesh(const World& world, const MeshOptions& options) {
+  SurfaceMesh mesh;
+  build_surface_mesh(world, options, mesh);
+  return mesh;
+}
+
+void build_surface_mesh(const World& world, const MeshOptions& options, SurfaceMesh& mesh) {
   const std::vector<std::uint8_t> open = open_face_masks(world);
   const std::vector<OpenFace> faces = open_faces(world, open);
   const std::vector<float> opacity = cell_opacity(world, options.layer_opacity);
@@ -114,13 +137,11 @@ SurfaceMesh build_surface_mesh(const World& world, const MeshOptions& options) {
   const FibrePlan fibres = options.fray ? plan_fibres(world, faces, options.fray_length) : FibrePlan{};
   // Everything is counted before anything is written, so the mesh is sized once: no copies
   // of grown arrays. The fibres come after the quads' triangles and vertices.
-  SurfaceMesh mesh;
   mesh.resize(quads.vertex_count() + 3 * fibres.triangle_count(), quads.triangle_count() + fibres.triangle_count());
   quads.write(opacity, mesh);
   if (options.fray)
     write_fibres(world, faces, options.fray_length, opacity, fibres, {quads.triangle_count(), quads.vertex_count()},
                  mesh);
-  return mesh;
 }
 
 }  // namespace papertear::render

@@ -86,7 +86,8 @@ struct SurfaceMesh {
   std::size_t triangle_count() const { return triangles.size(); }
   // Sets every per-vertex and per-triangle array to these sizes; new entries are left
   // uninitialised for set_vertex and set_triangle to fill in (several threads may fill
-  // disjoint ones), and all of them must be.
+  // disjoint ones), and all of them must be. Arrays keep their capacity, and one that must
+  // grow is not copied (its old entries are to be overwritten anyway).
   void resize(std::size_t vertices, std::size_t triangle_slots);
   void set_vertex(std::uint32_t i, const std::array<float, 3>& p, const std::array<float, 3>& n,
                   const std::array<float, 2>& t, std::uint32_t node_id, std::uint32_t original);
@@ -103,6 +104,10 @@ struct MeshOptions {
 // The display mesh of a world: its surface faces as triangles, plus frayed fibres on torn
 // faces. Reads the world only.
 SurfaceMesh build_surface_mesh(const World& world, const MeshOptions& options = {});
+// The same, written into `mesh` (whatever it held before is replaced). For a frame loop:
+// passing the same mesh back every frame keeps its ~40 MB (a torn 90 x 90 x 5 sheet) mapped,
+// instead of faulting in fresh pages and unmapping them again each frame.
+void build_surface_mesh(const World& world, const MeshOptions& options, SurfaceMesh& mesh);
 
 // The corners of face f in counter-clockwise order seen from outside the cell.
 std::array<int, 4> face_loop(int face);
