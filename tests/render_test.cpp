@@ -526,15 +526,25 @@ TEST_CASE("frayed fibres are drawn whichever side the camera looks from", "[rend
   }
 }
 
-TEST_CASE("the same state renders to the same bytes", "[render]") {
+namespace {
+
+// A torn sheet with a corner of its top layer split off and lifted, so that translucency
+// and shadows are exercised too.
+World torn_sheet_with_lifted_corner() {
   World w = torn_sheet(16, 10, 3, 1.0f);
-  // Lift a corner of the top layer so that translucency and shadows are exercised too.
   split_off(w, [&](int i, int j, int k) { return i < 4 && j < 4 && k == 2; });
   for (std::uint32_t c = 0; c < w.topo.dims.cells(); ++c) {
     const auto ijk = w.topo.dims.cell_ijk(c);
     if (ijk[0] < 4 && ijk[1] < 4 && ijk[2] == 2)
       for (int q = 0; q < 8; ++q) w.nodes.pz[w.topo.node(c, q)] = float(ijk[2] + (q >> 2)) + 0.8f;
   }
+  return w;
+}
+
+}  // namespace
+
+TEST_CASE("the same state renders to the same bytes", "[render]") {
+  const World w = torn_sheet_with_lifted_corner();
   Renderer renderer(small_frame(128, 80));
   const Camera cam = renderer.camera_for(w);
   const std::vector<std::uint8_t> a = encode_png(renderer.draw(w, cam));
@@ -555,13 +565,7 @@ TEST_CASE("a renderer's buffers kept from frame to frame do not change a frame",
   // A renderer keeps its mesh, scenes and pass buffers for the next draw(): frames of other
   // states in between (more and fewer triangles, no skins, nothing torn) leave A's bytes as a
   // fresh renderer draws them, on any number of threads.
-  World a = torn_sheet(16, 10, 3, 1.0f);
-  split_off(a, [&](int i, int j, int k) { return i < 4 && j < 4 && k == 2; });
-  for (std::uint32_t c = 0; c < a.topo.dims.cells(); ++c) {
-    const auto ijk = a.topo.dims.cell_ijk(c);
-    if (ijk[0] < 4 && ijk[1] < 4 && ijk[2] == 2)
-      for (int q = 0; q < 8; ++q) a.nodes.pz[a.topo.node(c, q)] = float(ijk[2] + (q >> 2)) + 0.8f;
-  }
+  const World a = torn_sheet_with_lifted_corner();
   const World b = torn_sheet(24, 14, 3, 0.6f);
   const World plain = make_sheet(10, 8, 2);
   Renderer fresh(small_frame(128, 80));
