@@ -144,8 +144,8 @@ struct Pairs8 {
   using V = xsimd::batch<float, xsimd::avx2>;
   static constexpr int kLanes = 8;
 
-  // Lanes l = 0..7 of (src[base + 2l], src[base + 2l + 1]).
-  // Lanes l < lanes of (src[base + 2l], src[base + 2l + 1]); nothing is read past them.
+  // Lanes l < lanes (all 8 unless a short row's) of (src[base + 2l], src[base + 2l + 1]);
+  // nothing is read past them.
   static void load(const float* p, V& even, V& odd, int lanes = kLanes) {
     __m256 lo, hi;
     if (lanes == kLanes) {
@@ -165,8 +165,8 @@ struct Pairs8 {
     return _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(int(nodes & 0xFFu)), bit), bit);
   }
 
-  // dst[base + 2l] += even[l], dst[base + 2l + 1] += odd[l] for lanes l >= skip whose bit is
-  // clear in drop_even (drop_odd); the other nodes keep their bits (a blend).
+  // dst[base + 2l] += even[l], dst[base + 2l + 1] += odd[l] for the nodes node_keep_mask()
+  // keeps; the others are neither read nor written.
   static void add(float* p, const V& even, const V& odd, int skip, unsigned drop_even = 0, unsigned drop_odd = 0,
                   int lanes = kLanes) {
     const __m256 a = _mm256_unpacklo_ps(even, odd), b = _mm256_unpackhi_ps(even, odd);
@@ -468,9 +468,9 @@ void add_group(const std::uint32_t* cells, const CellForceInputs& in, const Forc
 // Groups of W from `begin`; the n < W cells left at the end go in one more vector group
 // whose first W - n lanes are computed but not added: the last W cells of the range (lanes
 // the group before already added), or, in a range shorter than W, copies of its first cell.
-// Why not scalar: with 16 lanes a row of a sheet narrower than 32 cells holds fewer than 16
-// cells of a colour, and one lane at a time made such sheets' fine springs ~10x slower per
-// cell. A lane gets the same operations whatever its group, so the bits are the same.
+// Why not scalar: unplanned, a row of a sheet narrower than 32 cells holds fewer than 16
+// cells of a colour, and one lane at a time made such rows ~10x slower per cell. A lane gets
+// the same operations whatever its group, so the bits are the same.
 template <class V>
 void add_forces_with(std::size_t begin, std::size_t end, const std::uint32_t* cells,
                      const CellForceInputs& in, const ForceOutputs& out) {
@@ -488,10 +488,10 @@ void add_forces_with(std::size_t begin, std::size_t end, const std::uint32_t* ce
   add_group<V>(padded, in, out, skip);
 }
 
-// Group g of a row of per_row >= W cells: groups of W from the row's start, and a row whose
+// Group g of a row of per_row cells: groups of W from the row's start, and a row whose
 // length is not a multiple of W ends with a group overlapping the one before it, whose
-// already-done lanes are computed but not added. So no group straddles a row end and every
-// group can be regular.
+// already-done lanes are computed but not added; a row shorter than W is one group of its
+// own cells. So no group straddles a row end and every group can be regular.
 struct RowGroup {
   std::size_t offset, skip;
 };
