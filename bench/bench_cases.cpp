@@ -53,7 +53,8 @@ SolverFootprint solver_footprint(const World& w) {
   // The solver's derived tables, built here as the solver builds them.
   FineSprings fine;
   build_fine_springs(w.topo, w.springs, fine);
-  const double fine_bytes = double(fine.count.size()) + double(fine.owned.size()) * 4;
+  const double fine_bytes = double(fine.count.size()) + double(fine.owned.size()) * 4 + double(fine.copies.size()) +
+                            double(fine.rows.size() * sizeof(FineRow));
   BlockLattice lattice;
   build_block_lattice(w.coarse, w.blocks, w.topo.dims, lattice);
   const double lattice_bytes =
@@ -61,17 +62,10 @@ SolverFootprint solver_footprint(const World& w) {
              lattice.entry.size()) * 4 +
       double(lattice.live.size() + lattice.rest.size() + lattice.stiffness.size() + lattice.damping.size() +
              lattice.fx.size() + lattice.fy.size() + lattice.fz.size()) * 4;
-  // The cell kernel's plan: one CellGroup per vector group of each colour's rows.
-  double plan_bytes = 0.0;
-  for (std::size_t c = 0; c < 8; ++c) {
-    const std::size_t per_row = std::size_t(w.topo.dims.nx + 1 - int(c & 1)) / 2;
-    if (per_row > 0)
-      plan_bytes += double(w.topo.colour_cells[c].size() / per_row * cell_groups_per_row(per_row) * sizeof(CellGroup));
-  }
   const double cells = double(w.topo.dims.cells());
   SolverFootprint f;
   f.bytes_per_cell =
-      cells > 0 ? (node_bytes + cell_bytes + coarse_bytes + fine_bytes + lattice_bytes + plan_bytes) / cells : 0.0;
+      cells > 0 ? (node_bytes + cell_bytes + coarse_bytes + fine_bytes + lattice_bytes) / cells : 0.0;
   // Distinct fine springs (one bit per owned slot; the flag bits are not slots) and block springs.
   for (std::size_t c = 0; c < fine.cells; ++c) f.evaluated_springs += double(std::popcount(fine.owned[c] & kAllSlots));
   f.evaluated_springs += double(w.coarse.size());

@@ -32,7 +32,7 @@ CellForceInputs node_state_inputs(const World& w, FineSprings& fine) {
   build_fine_springs(w.topo, w.springs, fine);
   const NodeStore& n = w.nodes;
   return {n.px.data(), n.py.data(), n.pz.data(), n.vx.data(), n.vy.data(), n.vz.data(),
-          w.topo.cell_nodes.data(), w.topo.cell_scale.data(), &w.springs, &fine};
+          w.topo.cell_nodes.data(), w.topo.cell_scale.data(), &w.springs, &fine, &w.topo.dims};
 }
 
 void force_papertear(benchmark::State& state, Case c) {

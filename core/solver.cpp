@@ -20,65 +20,13 @@ constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
 CellForceInputs stage_inputs(const World& w, const SolverScratch& scratch) {
   const IntegratorScratch& s = w.scratch;
   return {s.sx.data(),   s.sy.data(),   s.sz.data(), s.svx.data(), s.svy.data(), s.svz.data(), w.topo.cell_nodes.data(),
-          w.topo.cell_scale.data(), &w.springs, &scratch.fine};
+          w.topo.cell_scale.data(), &w.springs, &scratch.fine, &w.topo.dims};
 }
 
-// Values of 0..n-1 with the given parity.
-std::size_t with_parity(int n, int parity) { return std::size_t((n + 1 - parity) / 2); }
-
-// Cells per row of a colour's list: colour bit 0 is the parity of i.
-std::size_t cells_per_row(const LatticeDims& d, std::size_t colour) { return with_parity(d.nx, int(colour & 1)); }
-
-// Remakes the kernel's plan of every colour's vector groups, in parallel over fixed chunks
-// of rows (each group's plan depends on its own cells only).
-void plan_fine_groups(const Topology& topo, const CellForceInputs& in, std::array<std::vector<CellGroup>, 8>& plans) {
-  constexpr std::size_t kPlanRows = 64;
-  std::array<std::size_t, 9> first{};  // chunk offsets per colour
-  for (std::size_t c = 0; c < 8; ++c) {
-    const std::size_t per_row = cells_per_row(topo.dims, c), groups = cell_groups_per_row(per_row);
-    const std::size_t rows = groups == 0 ? 0 : topo.colour_cells[c].size() / per_row;
-    plans[c].resize(rows * groups);
-    first[c + 1] = first[c] + chunk_count(rows, kPlanRows);
-  }
-  parallel_chunks(first[8], 1, [&](std::size_t chunk, std::size_t, std::size_t) {
-    const std::size_t c = std::size_t(std::upper_bound(first.begin(), first.end(), chunk) - first.begin()) - 1;
-    const std::size_t per_row = cells_per_row(topo.dims, c);
-    const std::size_t rows = topo.colour_cells[c].size() / per_row, r0 = (chunk - first[c]) * kPlanRows;
-    plan_cell_rows(r0, std::min(rows, r0 + kPlanRows), per_row, topo.colour_cells[c].data(), topo.dims, in,
-                   plans[c].data());
-  });
-}
-
-// Replans the rows of the colour lists that hold the cells around each vertex in
-// `vertices`: the cells a split there changes (kernels/fine_springs.hpp,
-// update_fine_springs_at). Row (jj, kk) of colour c is list row kk * nj + jj (see FineStrips).
-void replan_rows_around(const Topology& topo, const CellForceInputs& in, const std::vector<std::uint32_t>& vertices,
-                        std::array<std::vector<CellGroup>, 8>& plans) {
-  const LatticeDims& d = topo.dims;
-  std::vector<std::uint64_t> rows;  // colour << 32 | list row
-  for (std::uint32_t vertex : vertices) {
-    const std::array<int, 3> v = d.vertex_ijk(vertex);
-    for (int k = std::max(v[2] - 1, 0); k <= std::min(v[2], d.nl - 1); ++k)
-      for (int j = std::max(v[1] - 1, 0); j <= std::min(v[1], d.ny - 1); ++j)
-        for (int i = std::max(v[0] - 1, 0); i <= std::min(v[0], d.nx - 1); ++i) {
-          const std::size_t c = std::size_t(LatticeDims::colour(i, j, k));
-          const std::size_t row = std::size_t(k >> 1) * with_parity(d.ny, int(c >> 1) & 1) + std::size_t(j >> 1);
-          rows.push_back(std::uint64_t(c) << 32 | row);
-        }
-  }
-  std::sort(rows.begin(), rows.end());
-  rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
-  for (std::uint64_t key : rows) {
-    const std::size_t c = std::size_t(key >> 32), row = std::size_t(key & 0xFFFFFFFFu), per_row = cells_per_row(d, c);
-    if (cell_groups_per_row(per_row) != 0)
-      plan_cell_rows(row, row + 1, per_row, topo.colour_cells[c].data(), d, in, plans[c].data());
-  }
-}
-
-// Brings the merged fine springs, and the cell kernel's plan of its vector groups, up to
-// date with the topology. Fracture records every split as an event and adds one node per
-// split, so when the counts agree only the cells around the new events' vertices can have
-// changed; anything else (a new world, splits made outside the fracture pass) rebuilds both.
+// Brings the merged fine springs, and the kernel's plan of each row of cells, up to date with
+// the topology. Fracture records every split as an event and adds one node per split, so
+// when the counts agree only the cells around the new events' vertices can have changed;
+// anything else (a new world, splits made outside the fracture pass) rebuilds the table.
 // Returns false when nothing had changed since the last call (no split: the block lattice's
 // refresh can be skipped too, since a block is entered only by a split).
 bool sync_fine_springs(const World& w, SolverScratch& scratch) {
@@ -92,14 +40,12 @@ bool sync_fine_springs(const World& w, SolverScratch& scratch) {
     parallel_chunks(cells, kCellChunk, [&](std::size_t b, std::size_t e, std::size_t) {
       assign_fine_springs(b, e, w.topo, w.springs, build, scratch.fine);
     });
-    plan_fine_groups(w.topo, stage_inputs(w, scratch), scratch.groups);
+    constexpr std::size_t kPlanRows = 16;
+    parallel_chunks(scratch.fine.rows.size(), kPlanRows,
+                    [&](std::size_t b, std::size_t e, std::size_t) { plan_fine_rows(b, e, w.topo, scratch.fine); });
   } else if (changed) {
-    std::vector<std::uint32_t> vertices;
-    for (std::size_t e = scratch.fine_events; e < w.events.size(); ++e) {
-      vertices.push_back(w.nodes.vertex[w.events[e].node]);
-      update_fine_springs_at(w.topo, w.springs, vertices.back(), scratch.fine);
-    }
-    replan_rows_around(w.topo, stage_inputs(w, scratch), vertices, scratch.groups);
+    for (std::size_t e = scratch.fine_events; e < w.events.size(); ++e)
+      update_fine_springs_at(w.topo, w.springs, w.nodes.vertex[w.events[e].node], scratch.fine);
   }
   scratch.fine_topology = w.topo.cell_nodes.data();
   scratch.fine_nodes = w.nodes.count;
@@ -156,46 +102,20 @@ void parallel_chunks_pair(std::size_t na, std::size_t chunk_a, const BodyA& body
   });
 }
 
-// The fine springs by strips of rows. Phase p (0..3) holds the lattice rows (j, k) with
-// j % 2 == p & 1 and k % 2 == p >> 1: colours 2p (even i) and 2p + 1 (odd i). A strip is
-// kStripRows consecutive values of j (all k); its task runs the 4 phases of its rows back to
-// back, each row colour 2p then 2p + 1, while the strip's nodes are in cache. Even strips run
-// in one parallel region, odd strips in the next: strips of one parity are at least a strip
-// apart, so they never share a node. Around a node there is exactly one row of each phase,
-// so a node inside a strip gets its cells' terms in colour order; a node on the row of
-// vertices between two strips gets the even strip's terms (in colour order), then the odd
-// strip's. Strips depend on the lattice size alone, so the order, and the bits, do not
-// depend on the thread count.
-
+// The fine springs by strips of rows: a strip is kStripRows consecutive values of j (all k);
+// its task sweeps its rows of cells (kernels/cell_forces.hpp) one after another while the
+// strip's nodes are in cache. Even strips run in one parallel region, odd strips in the
+// next: strips of one parity are at least a strip apart, so they never share a node. A node
+// inside a strip gets its terms in the strip's row order; a node on the row of vertices
+// between two strips gets the even strip's terms, then the odd strip's. Strips depend on
+// the lattice size alone, so the order, and the bits, do not depend on the thread count.
 struct FineStrips {
   const Topology* topo = nullptr;
   std::size_t strips = 0;
-  const std::array<std::vector<CellGroup>, 8>* plans = nullptr;  // per colour, or none
-
-  const CellGroup* plan(int colour) const { return plans ? (*plans)[std::size_t(colour)].data() : nullptr; }
-
-  // Phase p of cell rows j in [j0, j1).
-  void run_phase(int p, int j0, int j1, const CellForceInputs& in, const ForceOutputs& out) const {
-    const LatticeDims& d = topo->dims;
-    const int jpar = p & 1, kpar = p >> 1;
-    const std::vector<std::uint32_t>& even = topo->colour_cells[std::size_t(2 * p)];
-    const std::vector<std::uint32_t>& odd = topo->colour_cells[std::size_t(2 * p + 1)];
-    const std::size_t nj = with_parity(d.ny, jpar), even_per_row = with_parity(d.nx, 0), odd_per_row = with_parity(d.nx, 1);
-    // core/lattice_builder.cpp lists each colour's cells by ascending id: row (jj, kk) is
-    // list row kk * nj + jj, with j = 2 jj + jpar and k = 2 kk + kpar.
-    assert(even.size() == nj * with_parity(d.nl, kpar) * even_per_row);
-    const std::size_t jj0 = with_parity(j0, jpar), jj1 = with_parity(j1, jpar);
-    for (std::size_t kk = 0; kk < with_parity(d.nl, kpar); ++kk) {
-      const std::size_t r0 = kk * nj + jj0, r1 = kk * nj + jj1;
-      if (r0 >= r1) continue;
-      add_cell_row_forces(r0 * even_per_row, r1 * even_per_row, even_per_row, even.data(), in, out, plan(2 * p));
-      add_cell_row_forces(r0 * odd_per_row, r1 * odd_per_row, odd_per_row, odd.data(), in, out, plan(2 * p + 1));
-    }
-  }
 
   void run(std::size_t strip, const CellForceInputs& in, const ForceOutputs& out) const {
     const int j0 = int(strip) * kStripRows, j1 = std::min(topo->dims.ny, j0 + kStripRows);
-    for (int p = 0; p < 4; ++p) run_phase(p, j0, j1, in, out);
+    add_cell_row_forces(j0, j1, in, out);
   }
   std::size_t even_strips() const { return (strips + 1) / 2; }
   std::size_t odd_strips() const { return strips / 2; }
@@ -205,8 +125,8 @@ struct FineStrips {
   }
 };
 
-FineStrips fine_strips(const Topology& topo, const std::array<std::vector<CellGroup>, 8>* plans = nullptr) {
-  return {&topo, chunk_count(std::size_t(std::max(topo.dims.ny, 0)), std::size_t(kStripRows)), plans};
+FineStrips fine_strips(const Topology& topo) {
+  return {&topo, chunk_count(std::size_t(std::max(topo.dims.ny, 0)), std::size_t(kStripRows))};
 }
 
 // All fine springs and pass 1 of the block lattice (which shares the first phase's region:
@@ -220,7 +140,7 @@ void add_fine_and_block_forces(World& w, SolverScratch& scratch, const CellForce
     build_block_lattice(w.coarse, w.blocks, w.topo.dims, lattice);
     new_topology = true;
   }
-  const FineStrips strips = fine_strips(w.topo, &scratch.groups);
+  const FineStrips strips = fine_strips(w.topo);
   parallel_chunks_pair(
       strips.even_strips(), 1, [&](std::size_t t, std::size_t) { strips.run(2 * t, in, out); },
       lattice.lanes, kBlockChunk, [&](std::size_t b, std::size_t e) {

@@ -1,16 +1,15 @@
 // One time step of the solver: four RK4 stages, each a force evaluation and a node update.
 //
 // Before stage 1 the merged-spring table (kernels/fine_springs.hpp: which cell evaluates
-// which coincident fine springs) and the cell kernel's plan of its vector groups
-// (kernels/cell_forces.hpp, CellGroup) are brought up to date with the splits since the last
-// step.
+// which coincident fine springs, and the plan of each row of cells the spring kernel sweeps)
+// is brought up to date with the splits since the last step.
 // Per stage, in this order (each line is one or more parallel regions; kernels/parallel.hpp
 // explains why the result does not depend on the thread count):
 //   1. fine springs, by strips of rows   a task takes a strip of kStripRows values of j and
-//                                        runs its 4 phases (phase p = rows (j, k) of parity
-//                                        (p & 1, p >> 1), colours 2p then 2p + 1) while its nodes
-//                                        are in cache; even strips in one region, odd strips
-//                                        in the next (core/solver.cpp: the order each node gets)
+//                                        sweeps its rows of cells (j, then k) slot by slot
+//                                        (kernels/cell_forces.hpp) while its nodes are in
+//                                        cache; even strips in one region, odd strips in the
+//                                        next (core/solver.cpp: the order each node gets)
 //      block lattice, pass 1             parallel over blocks, in the same region as the even
 //                                        strips: one force sum per block corner
 //   2. block lattice, pass 2             parallel over lattice vertices, each adding the corner
@@ -18,9 +17,9 @@
 //                                        (kernels/coarse_forces.hpp), then updating the nodes
 //                                        whose id is that vertex; clears forces for the next stage
 //      node update of split nodes        after that region (nodes from splits sit anywhere)
-// That is 3 parallel regions per stage. Each node's force is its cells' terms in colour
-// order (strip by strip on the rows of vertices between strips), then its blocks' corner
-// sums in block order, whatever the thread count.
+// That is 3 parallel regions per stage. Each node's fine-spring force is its terms in the
+// kernel's order (strips, rows, chunks, slots), then its blocks' corner sums in block order,
+// whatever the thread count.
 // Under a pierce load the indenter's contact force (core/contact.hpp) is added after step 2,
 // parallel over nodes. Gripped nodes get their prescribed velocity before stage 1. After stage 4 the step checks
 // for a blow-up (non-finite or runaway state) and throws BlowUpError naming the step and node.
@@ -45,9 +44,6 @@ struct SolverScratch {
   FineSprings fine;
   const std::uint32_t* fine_topology = nullptr;  // the cell table it was built for
   std::size_t fine_nodes = 0, fine_events = 0;   // node and event counts it has seen
-  // Per colour: the plan of the fine-spring kernel's vector groups (kernels/cell_forces.hpp),
-  // remade whenever `fine` changes.
-  std::array<std::vector<CellGroup>, 8> groups;
 };
 
 // Chunk sizes (elements per task). Fixed numbers, never derived from the thread count.
@@ -56,7 +52,7 @@ inline constexpr std::size_t kNodeChunk = 2048;
 inline constexpr std::size_t kVertexChunk = 2048;
 inline constexpr std::size_t kBlockChunk = 256;  // block-lattice lanes
 // Fine springs: cell rows (values of j) per strip. Small enough that a strip's nodes stay in
-// cache through its 4 phases and that even a 90-row sheet gives each thread several strips.
+// cache while its rows are swept and that even a 90-row sheet gives each thread several strips.
 inline constexpr int kStripRows = 4;
 static_assert(kBlockChunk % kBlockLanes == 0, "block chunks hold whole vectors");
 

@@ -1,5 +1,6 @@
 #include "kernels/fine_springs.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cstring>
 
@@ -90,6 +91,17 @@ bool corners_whole(const Topology& topo, const FineSpringsBuild& build, std::uin
   return true;
 }
 
+// Bit q set when corner q's node of cell c is not its vertex's original node.
+std::uint8_t copy_corners(const Topology& topo, std::uint32_t c) {
+  const LatticeDims& d = topo.dims;
+  const auto ijk = d.cell_ijk(c);
+  std::uint8_t bits = 0;
+  for (int q = 0; q < kCornersPerCell; ++q)
+    if (topo.node(c, q) != d.vertex_index(ijk[0] + corner_bit(q, 0), ijk[1] + corner_bit(q, 1), ijk[2] + corner_bit(q, 2)))
+      bits = std::uint8_t(bits | (1u << q));
+  return bits;
+}
+
 void assign_cell(const Topology& topo, const SpringTable& table, std::uint32_t c, bool whole, FineSprings& out) {
   const auto ijk = topo.dims.cell_ijk(c);
   std::uint32_t owned = 0;
@@ -98,11 +110,25 @@ void assign_cell(const Topology& topo, const SpringTable& table, std::uint32_t c
     out.count[std::size_t(s) * out.cells + c] = n;
     if (n != 0) owned |= 1u << s;
   }
-  const LatticeDims& d = topo.dims;
-  for (int q = 0; q < kCornersPerCell; ++q)
-    if (topo.node(c, q) != d.vertex_index(ijk[0] + corner_bit(q, 0), ijk[1] + corner_bit(q, 1), ijk[2] + corner_bit(q, 2)))
-      owned |= kSplitCorner;
+  out.copies[c] = whole ? 0 : copy_corners(topo, c);  // a whole cell's corners are its vertices' own nodes
+  if (out.copies[c] != 0) owned |= kSplitCorner;
   out.owned[c] = owned | (topo.cell_scale[c] != 1.0f ? kScaledCell : 0u);
+}
+
+// Widens cell c's row so that it covers c's owned slots and flags.
+void widen_row(const Topology& topo, std::uint32_t c, FineSprings& out) {
+  const LatticeDims& d = topo.dims;
+  const auto ijk = d.cell_ijk(c);
+  FineRow& row = out.rows[std::size_t(ijk[2]) * std::size_t(d.ny) + std::size_t(ijk[1])];
+  const std::uint32_t i = std::uint32_t(ijk[0]), owned = out.owned[c];
+  for (int s = 0; s < kSpringsPerCell; ++s)
+    if ((owned >> s) & 1u) {
+      if (row.lo[s] == row.hi[s]) row.lo[s] = row.hi[s] = i;
+      row.lo[s] = std::min(row.lo[s], i);
+      row.hi[s] = std::max(row.hi[s], i + 1);
+    }
+  row.scaled = row.scaled || (owned & kScaledCell) != 0;
+  row.copies = row.copies || out.copies[c] != 0;
 }
 
 // True when slots that can coincide (same family and axis) have the same parameters and all
@@ -126,6 +152,8 @@ FineSpringsBuild prepare_fine_springs(const Topology& topo, const SpringTable& t
   out.count.resize(kSpringsPerCell * out.cells + 32);
   std::memset(out.count.data(), 0, out.count.size());
   out.owned.assign(out.cells + 32, 0);
+  out.copies.assign(out.cells + 32, 0);
+  out.rows.assign(std::size_t(d.ny) * std::size_t(d.nl), FineRow{});
   // A vertex is whole while every cell around it still uses the vertex's own node.
   FineSpringsBuild build;
   build.whole_vertex.assign(std::size_t(d.vertices()), uniform_springs(topo, table) ? 1 : 0);
@@ -148,6 +176,25 @@ void assign_fine_springs(std::size_t begin, std::size_t end, const Topology& top
 void build_fine_springs(const Topology& topo, const SpringTable& table, FineSprings& out) {
   const FineSpringsBuild build = prepare_fine_springs(topo, table, out);
   assign_fine_springs(0, out.cells, topo, table, build, out);
+  plan_all_fine_rows(topo, out);
+}
+
+void plan_fine_rows(std::size_t row_begin, std::size_t row_end, const Topology& topo, FineSprings& out) {
+  const LatticeDims& d = topo.dims;
+  for (std::size_t r = row_begin; r < row_end; ++r) {
+    out.rows[r] = FineRow{};
+    const std::uint32_t first = std::uint32_t(r) * std::uint32_t(d.nx);  // cell (0, j, k) with r = k * ny + j
+    for (std::uint32_t c = first; c < first + std::uint32_t(d.nx); ++c) {
+      out.copies[c] = copy_corners(topo, c);
+      widen_row(topo, c, out);
+    }
+  }
+}
+
+void plan_all_fine_rows(const Topology& topo, FineSprings& out) {
+  out.copies.assign(out.cells + 32, 0);
+  out.rows.assign(std::size_t(topo.dims.ny) * std::size_t(topo.dims.nl), FineRow{});
+  plan_fine_rows(0, out.rows.size(), topo, out);
 }
 
 void update_fine_springs_at(const Topology& topo, const SpringTable& table, std::uint32_t vertex, FineSprings& out) {
@@ -159,7 +206,9 @@ void update_fine_springs_at(const Topology& topo, const SpringTable& table, std:
       for (int di = -1; di <= 0; ++di) {
         const int i = v[0] + di, j = v[1] + dj, k = v[2] + dk;
         if (i < 0 || j < 0 || k < 0 || i >= lim[0] || j >= lim[1] || k >= lim[2]) continue;
-        assign_cell(topo, table, d.cell_index(i, j, k), false, out);
+        const std::uint32_t c = d.cell_index(i, j, k);
+        assign_cell(topo, table, c, false, out);
+        widen_row(topo, c, out);
       }
 }
 

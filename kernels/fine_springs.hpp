@@ -5,9 +5,9 @@
 // (one per cell around it) and an interior face diagonal two: of a cell's 28 springs only 13
 // are distinct. Coincident springs join the same two nodes with the same rest length,
 // stiffness and damping (slots of one family and axis, cells of equal stiffness factor), so
-// together they pull with `count` times one spring's force. The cell kernel evaluates each
-// such set once, in its owner (the cell of the set with the largest id), scaled by `count`;
-// the other cells skip it (count 0).
+// together they pull with `count` times one spring's force. The fine-spring kernel evaluates
+// each such set once, in its owner (the cell of the set with the largest id), scaled by
+// `count`; the other cells skip it (count 0).
 //
 // In a whole sheet the owner is the cell on whose low faces (dx, dy or dz = 0) the spring
 // lies, so every cell owns the same 13 slots (kLowSlots) and only cells on the sheet's high
@@ -15,9 +15,10 @@
 // springs of the cells that moved to the copy no longer coincide with the others': each
 // side then has an owner of its own, which may own slots outside kLowSlots.
 //
-// Which cell owns a set depends on the topology only, never on the thread count, and a
-// node's force is still its cells' contributions in colour order, so the solver's bits stay
-// independent of threads and vector width.
+// Which cell owns a set depends on the topology only, never on the thread count, and the
+// kernel adds each node's terms in a fixed order (kernels/cell_forces.hpp), so the solver's
+// bits stay independent of threads and vector width. The kernel also needs, per row of
+// cells, which slots have owners where (FineRow) and which cells' corners are split copies.
 #pragma once
 #include <cstddef>
 #include <cstdint>
@@ -45,6 +46,18 @@ inline constexpr std::uint32_t kAllSlots = (1u << kSpringsPerCell) - 1u;
 inline constexpr std::uint32_t kScaledCell = 1u << 31;  // in FineSprings::owned
 inline constexpr std::uint32_t kSplitCorner = 1u << 30; // ditto: a corner's node is a split copy
 
+// What the kernel (kernels/cell_forces.hpp) needs to know of one row of cells (j, k):
+// per slot, the cells [lo, hi) of the row (by i) among which that slot's owners lie (lo ==
+// hi: none), and whether any cell of the row has a stiffness factor other than 1 or a corner
+// whose node is a split copy. A range may be wider than its owners (update_fine_springs_at
+// only widens ranges): a cell that does not own the slot adds exact zeros.
+struct FineRow {
+  std::uint32_t lo[kSpringsPerCell] = {};
+  std::uint32_t hi[kSpringsPerCell] = {};
+  bool scaled = false;
+  bool copies = false;
+};
+
 struct FineSprings {
   std::size_t cells = 0;
   // [slot * cells + cell]: how many coincident springs the cell evaluates as one, 0 where
@@ -55,6 +68,11 @@ struct FineSprings {
   // original node (node id = vertex id). 32 entries of padding (0) at the end, for vector
   // loads.
   std::vector<std::uint32_t> owned;
+  // Per cell: bit q set when corner q's node is a split copy, not its vertex's original
+  // node. 32 bytes of padding (0) at the end, for vector loads.
+  std::vector<std::uint8_t> copies;
+  // Per row of cells, index k * ny + j (plan_fine_rows).
+  std::vector<FineRow> rows;
 
   std::uint8_t at(std::size_t cell, int slot) const { return count[std::size_t(slot) * cells + cell]; }
 };
@@ -72,8 +90,14 @@ void build_fine_springs(const Topology& topo, const SpringTable& table, FineSpri
 FineSpringsBuild prepare_fine_springs(const Topology& topo, const SpringTable& table, FineSprings& out);
 void assign_fine_springs(std::size_t begin, std::size_t end, const Topology& topo, const SpringTable& table,
                          const FineSpringsBuild& build, FineSprings& out);
+// The rows [row_begin, row_end) of `out.rows` and their cells' `copies`, from the counts,
+// owned slots and the topology (rows may be planned in parallel). build_fine_springs plans
+// every row; a table made by hand needs plan_all_fine_rows before the kernel can use it.
+void plan_fine_rows(std::size_t row_begin, std::size_t row_end, const Topology& topo, FineSprings& out);
+void plan_all_fine_rows(const Topology& topo, FineSprings& out);
 // The same for the cells around lattice vertex `vertex` only: enough after a node there
 // was split, since every spring whose coincidence the split can change ends at that vertex.
+// Their rows' ranges and flags are widened to cover them.
 void update_fine_springs_at(const Topology& topo, const SpringTable& table, std::uint32_t vertex, FineSprings& out);
 
 }  // namespace papertear

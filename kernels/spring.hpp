@@ -1,6 +1,7 @@
 // One spring's force and energy in scalar code, for the serial and per-spring paths (block
-// lattice springs, energies, fracture's force sums). The same formula as the vector cell
-// kernel (kernels/cell_forces.hpp), written for one spring.
+// lattice springs, energies, fracture's force sums). The same model as the fine-spring
+// kernel (kernels/cell_forces.hpp), which arranges the arithmetic differently (1 / L as
+// L / L^2, so that the square root and the division overlap): the two agree to rounding.
 #pragma once
 #include <cmath>
 

@@ -82,12 +82,14 @@ void require_same(const pt::World& w, const pt::FineSprings& got, const pt::Fine
 }
 
 // A FineSprings in which every cell evaluates its own 28 springs: the unmerged model.
-pt::FineSprings unmerged(std::size_t cells) {
+pt::FineSprings unmerged(const pt::World& w) {
+  const std::size_t cells = std::size_t(w.topo.dims.cells());
   pt::FineSprings f;
   f.cells = cells;
   f.count.resize(pt::kSpringsPerCell * cells + 32, 1);
   f.owned.assign(cells, pt::kAllSlots);
   f.owned.resize(cells + 32, 0);
+  pt::plan_all_fine_rows(w.topo, f);
   return f;
 }
 
@@ -96,9 +98,27 @@ std::array<std::vector<float>, 3> fine_forces(const pt::World& w, const pt::Fine
   for (auto& col : f) col.assign(w.nodes.count, 0.0f);
   const pt::NodeStore& n = w.nodes;
   const pt::CellForceInputs in{n.px.data(), n.py.data(), n.pz.data(), n.vx.data(), n.vy.data(), n.vz.data(),
-                               w.topo.cell_nodes.data(), w.topo.cell_scale.data(), &w.springs, &fine};
+                               w.topo.cell_nodes.data(), w.topo.cell_scale.data(), &w.springs, &fine, &w.topo.dims};
   pt::add_fine_forces(w.topo, in, {f[0].data(), f[1].data(), f[2].data()});
   return f;
+}
+
+// Every owner of a slot lies within its row's range, and the row's flags are set where a
+// cell has a split copy or a stiffness factor; the copies bytes are exact.
+void require_rows_cover(const pt::World& w, const pt::FineSprings& got) {
+  pt::FineSprings fresh = got;
+  pt::plan_all_fine_rows(w.topo, fresh);
+  REQUIRE(got.rows.size() == fresh.rows.size());
+  std::size_t uncovered = 0, wrong_flags = 0;
+  for (std::size_t r = 0; r < got.rows.size(); ++r) {
+    const pt::FineRow &kept = got.rows[r], &want = fresh.rows[r];
+    for (int s = 0; s < pt::kSpringsPerCell; ++s)
+      if (want.lo[s] < want.hi[s] && (kept.lo[s] > want.lo[s] || kept.hi[s] < want.hi[s])) ++uncovered;
+    wrong_flags += (want.copies && !kept.copies) || want.scaled != kept.scaled ? 1 : 0;
+  }
+  CHECK(uncovered == 0);
+  CHECK(wrong_flags == 0);
+  CHECK(got.copies == fresh.copies);
 }
 
 }  // namespace
@@ -130,6 +150,7 @@ TEST_CASE("split nodes give each side its own springs, updated where the split w
     pt::update_fine_springs_at(w.topo, w.springs, vertex, fine);
   }
   require_same(w, fine, brute_force(w));
+  require_rows_cover(w, fine);
 }
 
 TEST_CASE("the solver keeps its merged springs in step with a tearing sheet", "[fine]") {
@@ -150,9 +171,7 @@ TEST_CASE("the solver keeps its merged springs in step with a tearing sheet", "[
   require_same(w, solver.fine, brute_force(w));
 }
 
-TEST_CASE("the solver keeps its plan of the cell kernel's vector groups in step with a tearing sheet", "[fine]") {
-  // 34 cells per row, 17 per colour: rows of a whole vector group and an overlapping one, so
-  // there is a plan to keep (narrower rows are never planned with 16 lanes).
+TEST_CASE("the solver keeps the kernel's plan of each row in step with a tearing sheet", "[fine]") {
   pt::Scene scene = pt::standard::scenes()[1].scene;
   scene.sheet.cells = {34, 12, 3};
   pt::World w = pt::Simulation(scene, {.threads = 1}).world();
@@ -167,32 +186,10 @@ TEST_CASE("the solver keeps its plan of the cell kernel's vector groups in step 
   INFO("steps " << w.step << ", events " << w.events.size());
   REQUIRE(steps_with_splits >= 5);  // the plan was brought up to date split by split
   pt::integrate_step(w, solver);   // ... and once more for the last splits
-  const pt::NodeStore& n = w.nodes;
-  const pt::CellForceInputs in{n.px.data(), n.py.data(), n.pz.data(), n.vx.data(), n.vy.data(), n.vz.data(),
-                               w.topo.cell_nodes.data(), w.topo.cell_scale.data(), &w.springs, &solver.fine};
-  std::size_t compared = 0, differing = 0, patched = 0;
-  for (std::size_t c = 0; c < 8; ++c) {
-    const std::vector<std::uint32_t>& list = w.topo.colour_cells[c];
-    const std::size_t per_row = std::size_t(w.topo.dims.nx + 1 - int(c & 1)) / 2, rows = list.size() / per_row;
-    std::vector<pt::CellGroup> fresh(rows * pt::cell_groups_per_row(per_row));
-    pt::plan_cell_rows(0, rows, per_row, list.data(), w.topo.dims, in, fresh.data());
-    REQUIRE(solver.groups[c].size() == fresh.size());
-    for (std::size_t g = 0; g < fresh.size(); ++g) {
-      const pt::CellGroup &a = solver.groups[c][g], &b = fresh[g];
-      const bool same = std::equal(std::begin(a.base), std::end(a.base), std::begin(b.base)) &&
-                        a.first_cell == b.first_cell && a.kind == b.kind &&
-                        std::equal(std::begin(a.patch), std::end(a.patch), std::begin(b.patch));
-      differing += same ? 0 : 1;
-      patched += std::any_of(std::begin(b.patch), std::end(b.patch), [](std::uint16_t m) { return m != 0; }) ? 1 : 0;
-      ++compared;
-    }
-  }
-  INFO(compared << " groups, " << patched << " with split copies");
-  CHECK(compared > 0);
-  CHECK(differing == 0);
-#if !defined(PAPERTEAR_NO_SIMD) && defined(__AVX2__)
-  CHECK(patched > 0);  // the builds with regular vector groups patch split copies
-#endif
+  require_rows_cover(w, solver.fine);
+  const std::size_t rows_with_copies = std::size_t(
+      std::count_if(solver.fine.rows.begin(), solver.fine.rows.end(), [](const pt::FineRow& r) { return r.copies; }));
+  CHECK(rows_with_copies > 0);
 }
 
 TEST_CASE("merged springs pull as hard as every cell's own 28", "[fine]") {
@@ -203,7 +200,7 @@ TEST_CASE("merged springs pull as hard as every cell's own 28", "[fine]") {
   pt::FineSprings merged;
   pt::build_fine_springs(w.topo, w.springs, merged);
   const auto got = fine_forces(w, merged);
-  const auto want = fine_forces(w, unmerged(merged.cells));
+  const auto want = fine_forces(w, unmerged(w));
   // Only rounding differs: one product by the count instead of up to 4 additions per
   // spring. A missing or doubled spring would be off by a whole spring force.
   double largest = 0.0, worst = 0.0;

@@ -1,5 +1,5 @@
 // The SIMD/TBB solver against the plain double-precision reference model
-// (kernels/reference.hpp): whole runs, and the per-node forces of the cell kernel.
+// (kernels/reference.hpp): whole runs, and the per-node forces of the fine-spring kernel.
 #include <algorithm>
 #include <array>
 #include <bit>
@@ -157,16 +157,17 @@ pt::CellForceInputs cell_inputs(const pt::World& w, pt::FineSprings& fine) {
   pt::build_fine_springs(w.topo, w.springs, fine);
   const pt::NodeStore& n = w.nodes;
   return {n.px.data(), n.py.data(), n.pz.data(), n.vx.data(), n.vy.data(), n.vz.data(),
-          w.topo.cell_nodes.data(), w.topo.cell_scale.data(), &w.springs, &fine};
+          w.topo.cell_nodes.data(), w.topo.cell_scale.data(), &w.springs, &fine, &w.topo.dims};
 }
 
-// The cell kernel over the 8 colour lists in colour order, as the solver runs it.
-template <class Kernel>
-Forces cell_forces(const pt::World& w, Kernel kernel) {
+using RowKernel = void (*)(int, int, const pt::CellForceInputs&, const pt::ForceOutputs&);
+
+// The fine-spring kernel over rows of cells j in [j0, j1) (every row if j1 < 0), in one call.
+Forces cell_forces(const pt::World& w, RowKernel kernel, int j0 = 0, int j1 = -1) {
   Forces f(w.nodes.count);
   pt::FineSprings fine;
   const pt::CellForceInputs in = cell_inputs(w, fine);
-  for (const auto& list : w.topo.colour_cells) kernel(0, list.size(), list.data(), in, f.outputs());
+  kernel(j0, j1 < 0 ? w.topo.dims.ny : j1, in, f.outputs());
   return f;
 }
 
@@ -219,11 +220,10 @@ bool same_bits(const std::vector<float>& a, const std::vector<float>& b) {
 
 }  // namespace
 
-TEST_CASE("the solver's strips of rows add the same bits as one pass per colour within a strip", "[reference]") {
-  // 37 cells per row: 19 and 18 cells per colour, so a row holds whole vector groups and an
-  // overlapping last one; 7 cells per row: rows shorter than a vector. The splits make some
-  // groups irregular (their nodes no longer consecutive). One strip of rows: every node gets
-  // its cells' terms in colour order, as one pass per colour adds them.
+TEST_CASE("the solver's strips add the same bits as one sweep of the rows when there is one strip", "[reference]") {
+  // 37 cells per row: whole vectors and an overlapping last one; 7 cells per row: rows shorter
+  // than a vector. The splits put split copies among the corners. One strip of rows: the
+  // solver's region then runs the same rows in the same order as one call.
   for (int nx : {37, 7}) {
     pt::Scene scene = small_pull_scene();
     scene.sheet.cells = {nx, pt::kStripRows, 3};
@@ -231,24 +231,23 @@ TEST_CASE("the solver's strips of rows add the same bits as one pass per colour 
     const pt::LatticeDims& d = w.topo.dims;
     for (int i = 2; i < nx; i += 5)
       REQUIRE(pt::split_node(w, pt::NodeId(d.vertex_index(i, 2, 1)), i % 2 == 0 ? 0 : 1, 1).valid());
-    const Forces colours = cell_forces(w, pt::add_cell_forces);
+    const Forces rows = cell_forces(w, pt::add_cell_row_forces);
     Forces strips(w.nodes.count);
     pt::FineSprings fine;
     pt::add_fine_forces(w.topo, cell_inputs(w, fine), strips.outputs());
     INFO("cells per row " << nx);
-    CHECK(same_bits(colours.x, strips.x));
-    CHECK(same_bits(colours.y, strips.y));
-    CHECK(same_bits(colours.z, strips.z));
+    CHECK(same_bits(rows.x, strips.x));
+    CHECK(same_bits(rows.y, strips.y));
+    CHECK(same_bits(rows.z, strips.z));
     CHECK(*std::max_element(strips.x.begin(), strips.x.end()) > 1e-3f);  // the springs are loaded
   }
 }
 
-TEST_CASE("planned vector groups, split copies patched in, add the same bits as the scalar kernel", "[reference]") {
-  // 37 cells per row: 19 and 18 per colour, whole vector groups and an overlapping last one;
-  // Splits all over the sheet leave most groups with a few corners whose node is a split copy:
-  // planned with the lattice's dimensions, such groups still load their corner pairs as
-  // vectors and fetch and return those corners one lane at a time.
-  // 21 and 7 cells per row: rows shorter than a vector (16 or 8 lanes), one masked group each.
+TEST_CASE("split copies patched into vector sweeps add the same bits as one lane at a time", "[reference]") {
+  // 37 cells per row: whole vectors and an overlapping last one; 21 and 7: rows of two
+  // vectors or one and a remainder, or shorter than a vector (8 or 16 lanes). Splits all over
+  // the sheet leave many vectors with a few lanes whose corner node is a split copy: those
+  // lanes take that end from the copy and add their force to it one lane at a time.
   const bool random_scales = GENERATE(true, false);
   const int nx = GENERATE(37, 21, 7);
   INFO("random stiffness factors: " << random_scales << ", cells per row " << nx);
@@ -260,35 +259,25 @@ TEST_CASE("planned vector groups, split copies patched in, add the same bits as 
     for (int j = 1; j < d.ny; j += 2)
       REQUIRE(pt::split_node(w, pt::NodeId(d.vertex_index(i, j, 1 + (i + j) % 2)), (i + j) % 3, j % 2).valid());
   pt::FineSprings fine;
-  const pt::CellForceInputs in = cell_inputs(w, fine);
-  Forces planned(w.nodes.count), scalar(w.nodes.count);
-  std::size_t patched = 0;
-  for (std::size_t c = 0; c < 8; ++c) {
-    const std::vector<std::uint32_t>& list = w.topo.colour_cells[c];
-    const std::size_t per_row = std::size_t(d.nx + 1 - int(c & 1)) / 2, rows = list.size() / per_row;
-    std::vector<pt::CellGroup> plan(rows * pt::cell_groups_per_row(per_row));
-    pt::plan_cell_rows(0, rows, per_row, list.data(), d, in, plan.data());
-    for (const pt::CellGroup& g : plan)
-      patched += std::any_of(std::begin(g.patch), std::end(g.patch), [](std::uint16_t m) { return m != 0; }) ? 1 : 0;
-    pt::add_cell_row_forces(0, list.size(), per_row, list.data(), in, planned.outputs(), plan.data());
-    pt::add_cell_forces_scalar(0, list.size(), list.data(), in, scalar.outputs());
-  }
-  CHECK(same_bits(planned.x, scalar.x));
-  CHECK(same_bits(planned.y, scalar.y));
-  CHECK(same_bits(planned.z, scalar.z));
-  CHECK(*std::max_element(planned.x.begin(), planned.x.end()) > 1e-3f);  // the springs are loaded
-#if !defined(PAPERTEAR_NO_SIMD) && defined(__AVX2__)
-  CHECK(patched > 0);  // the builds with regular vector groups do patch
-#endif
+  pt::build_fine_springs(w.topo, w.springs, fine);
+  const std::size_t rows_with_copies =
+      std::size_t(std::count_if(fine.rows.begin(), fine.rows.end(), [](const pt::FineRow& r) { return r.copies; }));
+  const Forces wide = cell_forces(w, pt::add_cell_row_forces);
+  const Forces scalar = cell_forces(w, pt::add_cell_row_forces_scalar);
+  CHECK(same_bits(wide.x, scalar.x));
+  CHECK(same_bits(wide.y, scalar.y));
+  CHECK(same_bits(wide.z, scalar.z));
+  CHECK(*std::max_element(wide.x.begin(), wide.x.end()) > 1e-3f);  // the springs are loaded
+  CHECK(rows_with_copies >= fine.rows.size() / 2);                 // and many rows have copies
 }
 
-TEST_CASE("many strips of rows: the same bits on any thread count, colour-pass sums within rounding", "[reference]") {
+TEST_CASE("many strips of rows: the same bits on any thread count, one sweep's sums within rounding", "[reference]") {
   // Rows of vertices between strips get the lower strip's terms first, then the upper's: a
-  // fixed order, but not the colour order, so only rounding may differ from the colour pass.
+  // fixed order, but not the order of one sweep of all rows, so only rounding may differ.
   pt::Scene scene = small_pull_scene();
   scene.sheet.cells = {21, 5 * pt::kStripRows + 2, 3};
   const pt::World w = perturbed_world(scene, 43, 0.1f, 0.05f);
-  const Forces colours = cell_forces(w, pt::add_cell_forces);
+  const Forces rows = cell_forces(w, pt::add_cell_row_forces);
   pt::FineSprings fine;
   const pt::CellForceInputs in = cell_inputs(w, fine);
   Forces one(w.nodes.count);
@@ -303,7 +292,7 @@ TEST_CASE("many strips of rows: the same bits on any thread count, colour-pass s
   }
   double largest = 0.0, worst = 0.0;
   for (std::size_t i = 0; i < w.nodes.count; ++i)
-    for (const auto& [a, b] : {std::pair{one.x[i], colours.x[i]}, {one.y[i], colours.y[i]}, {one.z[i], colours.z[i]}}) {
+    for (const auto& [a, b] : {std::pair{one.x[i], rows.x[i]}, {one.y[i], rows.y[i]}, {one.z[i], rows.z[i]}}) {
       largest = std::max(largest, double(std::fabs(b)));
       worst = std::max(worst, double(std::fabs(a - b)));
     }
@@ -351,12 +340,12 @@ TEST_CASE("reference model starts from the world it is given", "[reference]") {
   CHECK(mismatched == 0);
 }
 
-TEST_CASE("cell and coarse kernels match the reference spring forces", "[reference]") {
+TEST_CASE("fine and coarse kernels match the reference spring forces", "[reference]") {
   const bool random_scales = GENERATE(true, false);
   INFO("random stiffness factors: " << random_scales);
   const pt::World w = perturbed_world(small_pull_scene(), 11, 0.1f, 0.05f, random_scales);
   const pt::ReferenceModel ref(w);
-  Forces f = cell_forces(w, pt::add_cell_forces);
+  Forces f = cell_forces(w, pt::add_cell_row_forces);
   add_coarse_forces(w, f);
 
   const auto expected = ref.spring_forces();
@@ -379,35 +368,47 @@ TEST_CASE("cell and coarse kernels match the reference spring forces", "[referen
   CHECK(largest_force > 1e-2);  // the perturbation really loads the springs
 }
 
-TEST_CASE("vector and scalar cell kernels give the same bits", "[reference]") {
+TEST_CASE("vector and scalar sweeps give the same bits", "[reference]") {
   const bool random_scales = GENERATE(true, false);
   INFO("random stiffness factors: " << random_scales);
   pt::Scene scene = small_pull_scene();
-  scene.sheet.cells = {37, 5, 3};  // rows of whole vector groups and an overlapping last one
+  scene.sheet.cells = {37, 5, 3};  // rows of whole vectors and an overlapping last one
   const pt::World w = perturbed_world(scene, 29, 0.1f, 0.05f, random_scales);
-  const Forces wide = cell_forces(w, pt::add_cell_forces);
-  const Forces scalar = cell_forces(w, pt::add_cell_forces_scalar);
+  const Forces wide = cell_forces(w, pt::add_cell_row_forces);
+  const Forces scalar = cell_forces(w, pt::add_cell_row_forces_scalar);
   CHECK(same_bits(wide.x, scalar.x));
   CHECK(same_bits(wide.y, scalar.y));
   CHECK(same_bits(wide.z, scalar.z));
 
-  // A range that starts and ends off the vector width ends with a group overlapping the one
-  // before it; a range shorter than the width is one padded group.
-  const auto& list = w.topo.colour_cells[0];
-  REQUIRE(list.size() >= 3);
-  Forces a(w.nodes.count), b(w.nodes.count);
-  pt::FineSprings fine;
-  const pt::CellForceInputs in = cell_inputs(w, fine);
-  pt::add_cell_forces(1, list.size(), list.data(), in, a.outputs());
-  pt::add_cell_forces_scalar(1, list.size(), list.data(), in, b.outputs());
+  // Some rows only, as a strip takes them.
+  const Forces a = cell_forces(w, pt::add_cell_row_forces, 1, 3), b = cell_forces(w, pt::add_cell_row_forces_scalar, 1, 3);
   CHECK(same_bits(a.x, b.x));
   CHECK(same_bits(a.y, b.y));
   CHECK(same_bits(a.z, b.z));
-  Forces c(w.nodes.count), d(w.nodes.count);
-  pt::add_cell_forces(1, 4, list.data(), in, c.outputs());
-  pt::add_cell_forces_scalar(1, 4, list.data(), in, d.outputs());
-  CHECK(same_bits(c.x, d.x));
-  CHECK(same_bits(c.y, d.y));
-  CHECK(same_bits(c.z, d.z));
-  CHECK(*std::max_element(c.x.begin(), c.x.end()) > 1e-3f);  // the three cells' springs are loaded
+  CHECK(*std::max_element(a.x.begin(), a.x.end()) > 1e-3f);  // the rows' springs are loaded
+}
+
+TEST_CASE("rows longer than a chunk: vector and scalar sweeps give the same bits", "[reference]") {
+  // A row of kRowChunk + 19 cells is swept as two chunks; the node between them gets the
+  // first chunk's terms, then the second's.
+  pt::Scene scene = small_pull_scene();
+  scene.sheet.cells = {int(pt::kRowChunk) + 19, 4, 2};
+  const pt::World w = perturbed_world(scene, 31, 0.1f, 0.05f);
+  const Forces wide = cell_forces(w, pt::add_cell_row_forces);
+  const Forces scalar = cell_forces(w, pt::add_cell_row_forces_scalar);
+  CHECK(same_bits(wide.x, scalar.x));
+  CHECK(same_bits(wide.y, scalar.y));
+  CHECK(same_bits(wide.z, scalar.z));
+  const pt::ReferenceModel ref(w);
+  const auto expected = ref.spring_forces();
+  Forces with_coarse = wide;
+  add_coarse_forces(w, with_coarse);
+  const std::vector<double> tol = force_tolerance(ref);
+  std::size_t off = 0;
+  for (std::size_t i = 0; i < w.nodes.count; ++i)
+    off += std::fabs(with_coarse.x[i] - expected[i][0]) > tol[i] || std::fabs(with_coarse.y[i] - expected[i][1]) > tol[i] ||
+                   std::fabs(with_coarse.z[i] - expected[i][2]) > tol[i]
+               ? 1
+               : 0;
+  CHECK(off == 0);  // and both chunks' springs are all there
 }
