@@ -1,5 +1,5 @@
 // The fine-spring force kernel alone (kernels/cell_forces.hpp): one force evaluation over
-// all 8 colours in the solver's 4 phases of rows (add_fine_forces, core/solver.hpp), inside a
+// every row of cells by the solver's strips (add_fine_forces, core/solver.hpp), inside a
 // task arena of the case's thread count. This is the solver's hot loop without the node
 // update, the block-lattice springs or the fracture pass around it.
 #include <cstddef>
@@ -41,7 +41,7 @@ void force_papertear(benchmark::State& state, Case c) {
   const World& world = sim.world();
   FineSprings fine;
   const CellForceInputs in = node_state_inputs(world, fine);
-  // Forces accumulate over iterations, as they would over colours; the values stay finite
+  // Forces accumulate over iterations, as they would over a stage's kernels; the values stay finite
   // and the work per iteration is the same.
   ForceColumns forces(world.nodes.count);
   const ForceOutputs out = forces.outputs();
