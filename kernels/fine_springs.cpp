@@ -176,23 +176,21 @@ void assign_fine_springs(std::size_t begin, std::size_t end, const Topology& top
 void build_fine_springs(const Topology& topo, const SpringTable& table, FineSprings& out) {
   const FineSpringsBuild build = prepare_fine_springs(topo, table, out);
   assign_fine_springs(0, out.cells, topo, table, build, out);
-  plan_all_fine_rows(topo, out);
+  plan_fine_rows(0, out.rows.size(), topo, out);
 }
 
 void plan_fine_rows(std::size_t row_begin, std::size_t row_end, const Topology& topo, FineSprings& out) {
-  const LatticeDims& d = topo.dims;
+  const std::uint32_t nx = std::uint32_t(topo.dims.nx);
   for (std::size_t r = row_begin; r < row_end; ++r) {
     out.rows[r] = FineRow{};
-    const std::uint32_t first = std::uint32_t(r) * std::uint32_t(d.nx);  // cell (0, j, k) with r = k * ny + j
-    for (std::uint32_t c = first; c < first + std::uint32_t(d.nx); ++c) {
-      out.copies[c] = copy_corners(topo, c);
-      widen_row(topo, c, out);
-    }
+    const std::uint32_t first = std::uint32_t(r) * nx;  // cell (0, j, k) with r = k * ny + j
+    for (std::uint32_t c = first; c < first + nx; ++c) widen_row(topo, c, out);
   }
 }
 
 void plan_all_fine_rows(const Topology& topo, FineSprings& out) {
   out.copies.assign(out.cells + 32, 0);
+  for (std::uint32_t c = 0; c < out.cells; ++c) out.copies[c] = copy_corners(topo, c);
   out.rows.assign(std::size_t(topo.dims.ny) * std::size_t(topo.dims.nl), FineRow{});
   plan_fine_rows(0, out.rows.size(), topo, out);
 }

@@ -94,11 +94,12 @@ void assign_fine_springs(std::size_t begin, std::size_t end, const Topology& top
 // was split, since every spring whose coincidence the split can change ends at that vertex.
 // Their rows' ranges and flags are widened to cover them.
 void update_fine_springs_at(const Topology& topo, const SpringTable& table, std::uint32_t vertex, FineSprings& out);
-// The rows [row_begin, row_end) of `out.rows` and their cells' `copies`, from the counts,
-// owned slots and the topology (rows may be planned in parallel, after every cell has been
-// assigned). build_fine_springs plans every row; a table made by hand needs
-// plan_all_fine_rows before the kernel can use it.
+// The rows [row_begin, row_end) of `out.rows`, from the cells' owned slots and copies, once
+// every cell has been assigned (rows may be planned in parallel). build_fine_springs plans
+// every row.
 void plan_fine_rows(std::size_t row_begin, std::size_t row_end, const Topology& topo, FineSprings& out);
+// Every cell's `copies`, from the topology, and every row: what a table made by hand (counts
+// and owned slots only) needs before the kernel can use it.
 void plan_all_fine_rows(const Topology& topo, FineSprings& out);
 
 }  // namespace papertear
