@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <array>
-#include <cstring>
 
 namespace papertear {
 namespace {
@@ -107,7 +106,7 @@ void assign_cell(const Topology& topo, const SpringTable& table, std::uint32_t c
   std::uint32_t owned = 0;
   for (int s = 0; s < kSpringsPerCell; ++s) {
     const std::uint8_t n = whole ? whole_sheet_count(topo.dims, ijk, s) : coincident_count(topo, table, c, s);
-    out.count[std::size_t(s) * out.cells + c] = n;
+    out.set(c, s, n);
     if (n != 0) owned |= 1u << s;
   }
   out.copies[c] = whole ? 0 : copy_corners(topo, c);  // a whole cell's corners are its vertices' own nodes
@@ -148,9 +147,7 @@ bool uniform_springs(const Topology& topo, const SpringTable& table) {
 
 FineSpringsBuild prepare_fine_springs(const Topology& topo, const SpringTable& table, FineSprings& out) {
   const LatticeDims& d = topo.dims;
-  out.cells = std::size_t(d.cells());
-  out.count.resize(kSpringsPerCell * out.cells + 32);
-  std::memset(out.count.data(), 0, out.count.size());
+  out.resize_counts(std::size_t(d.cells()), std::size_t(d.nx), 0);
   out.owned.assign(out.cells + 32, 0);
   out.copies.assign(out.cells + 32, 0);
   out.rows.assign(std::size_t(d.ny) * std::size_t(d.nl), FineRow{});

@@ -20,6 +20,7 @@
 // bits stay independent of threads and vector width. The kernel also needs, per row of
 // cells, which slots have owners where (FineRow) and which cells' corners are split copies.
 #pragma once
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <initializer_list>
@@ -60,8 +61,13 @@ struct FineRow {
 
 struct FineSprings {
   std::size_t cells = 0;
-  // [slot * cells + cell]: how many coincident springs the cell evaluates as one, 0 where
-  // another cell does. 32 bytes of padding at the end: kernels load 32 bytes at a time.
+  std::size_t row_cells = 0;  // cells per row (nx)
+  // How many coincident springs a cell evaluates as one, 0 where another cell does: per row
+  // of cells, its 28 slots' runs of row_cells counts one after the other (count_index). The
+  // kernel reads a row's slots in order, so this is one stream; kept as 28 arrays of every
+  // cell, the slots' runs were 28 streams, which the prefetchers lost, and the sweep waited
+  // on the counts' cache misses. 32 bytes of padding at the end: kernels load 32 bytes at a
+  // time.
   AlignedArray<std::uint8_t> count{11};
   // Per cell: bit s set when the count of slot s is > 0, kScaledCell when the cell's
   // stiffness factor is not 1, kSplitCorner when one of its corners is not its vertex's
@@ -74,7 +80,23 @@ struct FineSprings {
   // Per row of cells, index k * ny + j (plan_fine_rows).
   std::vector<FineRow> rows;
 
-  std::uint8_t at(std::size_t cell, int slot) const { return count[std::size_t(slot) * cells + cell]; }
+  // Sizes `count` for `cells` cells in rows of `row_cells`, every count `value`.
+  void resize_counts(std::size_t cell_count, std::size_t cells_per_row, std::uint8_t value) {
+    cells = cell_count;
+    row_cells = cells_per_row;
+    count.resize(kSpringsPerCell * cells + 32);
+    std::fill(count.begin(), count.end(), value);
+  }
+  std::size_t count_index(std::size_t cell, int slot) const {
+    const std::size_t i = cell % row_cells;
+    return (cell - i) * kSpringsPerCell + std::size_t(slot) * row_cells + i;
+  }
+  // The counts of slot `slot` for the row of cells that starts at cell `row_start`.
+  const std::uint8_t* row_counts(std::size_t row_start, int slot) const {
+    return count.data() + row_start * kSpringsPerCell + std::size_t(slot) * row_cells;
+  }
+  std::uint8_t at(std::size_t cell, int slot) const { return count[count_index(cell, slot)]; }
+  void set(std::size_t cell, int slot, std::uint8_t n) { count[count_index(cell, slot)] = n; }
 };
 
 // What a build needs besides the table, per lattice vertex: 1 when no node there has been

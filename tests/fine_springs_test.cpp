@@ -43,14 +43,13 @@ pt::FineSprings brute_force(const pt::World& w) {
   for (std::uint32_t c = 0; c < cells; ++c)
     for (int s = 0; s < pt::kSpringsPerCell; ++s) sets[key(c, s)].push_back(c);
   pt::FineSprings f;
-  f.cells = cells;
-  f.count.resize(pt::kSpringsPerCell * cells + 32);
+  f.resize_counts(cells, std::size_t(w.topo.dims.nx), 0);
   f.owned.assign(cells + 32, 0);
   for (std::uint32_t c = 0; c < cells; ++c)
     for (int s = 0; s < pt::kSpringsPerCell; ++s) {
       const auto& set = sets[key(c, s)];
       const bool owner = c == *std::max_element(set.begin(), set.end());
-      f.count[std::size_t(s) * cells + c] = owner ? std::uint8_t(set.size()) : 0;
+      f.set(c, s, owner ? std::uint8_t(set.size()) : 0);
       if (owner) f.owned[c] |= 1u << s;
     }
   return f;
@@ -85,8 +84,7 @@ void require_same(const pt::World& w, const pt::FineSprings& got, const pt::Fine
 pt::FineSprings unmerged(const pt::World& w) {
   const std::size_t cells = std::size_t(w.topo.dims.cells());
   pt::FineSprings f;
-  f.cells = cells;
-  f.count.resize(pt::kSpringsPerCell * cells + 32, 1);
+  f.resize_counts(cells, std::size_t(w.topo.dims.nx), 1);
   f.owned.assign(cells, pt::kAllSlots);
   f.owned.resize(cells + 32, 0);
   pt::plan_all_fine_rows(w.topo, f);
