@@ -225,7 +225,7 @@ void sweep_slot(const Row& r, std::size_t lo, std::size_t hi, std::size_t chunk,
   const CellForceInputs& in = r.in;
   const std::size_t va = Pass::end_vertex(r, Pass::a);
   const std::ptrdiff_t ab = std::ptrdiff_t(Pass::end_vertex(r, Pass::b)) - std::ptrdiff_t(va);
-  const std::uint8_t* count = in.fine->row_counts(r.cell0, S);
+  const std::uint8_t* count = in.fine->kernel_counts(r.plan, r.cell0, S);
   const float K = in.table->stiffness[std::size_t(S)], C = in.table->damping[std::size_t(S)],
               L0 = in.table->rest[std::size_t(S)];
   auto go = [&]<bool kMasked>() {

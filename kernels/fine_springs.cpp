@@ -143,7 +143,38 @@ bool uniform_springs(const Topology& topo, const SpringTable& table) {
   return true;
 }
 
+// FineSprings::shared_counts for the kinds of row the sheet has, from whole_sheet_count.
+void fill_shared_counts(const LatticeDims& d, FineSprings& out) {
+  const std::size_t nx = std::size_t(d.nx), run = kSpringsPerCell * nx;
+  out.shared_counts.resize(FineSprings::kRowKinds * run + 32);
+  std::fill(out.shared_counts.begin(), out.shared_counts.end(), std::uint8_t(0));
+  bool filled[FineSprings::kRowKinds] = {};
+  for (int k = 0; k < d.nl; ++k)
+    for (int j = 0; j < d.ny; ++j) {
+      const int kind = whole_row_kind(d, j, k);
+      if (filled[kind]) continue;
+      filled[kind] = true;
+      std::uint8_t* dst = out.shared_counts.data() + std::size_t(kind) * run;
+      for (int s = 0; s < kSpringsPerCell; ++s)
+        for (int i = 0; i < d.nx; ++i) dst[std::size_t(s) * nx + std::size_t(i)] = whole_sheet_count(d, {i, j, k}, s);
+    }
+}
+
+// Row r's shared row: its kind's, if the row's counts are that kind's, else -1.
+std::int8_t shared_row_of(const LatticeDims& d, std::size_t r, const FineSprings& out) {
+  const int j = int(r % std::size_t(d.ny)), k = int(r / std::size_t(d.ny)), kind = whole_row_kind(d, j, k);
+  const std::size_t run = kSpringsPerCell * std::size_t(d.nx);
+  const bool same = std::equal(out.count.data() + r * run, out.count.data() + (r + 1) * run,
+                               out.shared_counts.data() + std::size_t(kind) * run);
+  return same ? std::int8_t(kind) : std::int8_t(-1);
+}
+
 }  // namespace
+
+int whole_row_kind(const LatticeDims& d, int j, int k) {
+  const int y = (j == 0 ? 1 : 0) | (j + 1 == d.ny ? 2 : 0), z = (k == 0 ? 1 : 0) | (k + 1 == d.nl ? 2 : 0);
+  return y * 4 + z;
+}
 
 FineSpringsBuild prepare_fine_springs(const Topology& topo, const SpringTable& table, FineSprings& out) {
   const LatticeDims& d = topo.dims;
@@ -151,6 +182,7 @@ FineSpringsBuild prepare_fine_springs(const Topology& topo, const SpringTable& t
   out.owned.assign(out.cells + 32, 0);
   out.copies.assign(out.cells + 32, 0);
   out.rows.assign(std::size_t(d.ny) * std::size_t(d.nl), FineRow{});
+  fill_shared_counts(d, out);
   // A vertex is whole while every cell around it still uses the vertex's own node.
   FineSpringsBuild build;
   build.whole_vertex.assign(std::size_t(d.vertices()), uniform_springs(topo, table) ? 1 : 0);
@@ -182,6 +214,7 @@ void plan_fine_rows(std::size_t row_begin, std::size_t row_end, const Topology& 
     out.rows[r] = FineRow{};
     const std::uint32_t first = std::uint32_t(r) * nx;  // cell (0, j, k) with r = k * ny + j
     for (std::uint32_t c = first; c < first + nx; ++c) widen_row(topo, c, out);
+    out.rows[r].shared = shared_row_of(topo.dims, r, out);
   }
 }
 
@@ -189,6 +222,7 @@ void plan_all_fine_rows(const Topology& topo, FineSprings& out) {
   out.copies.assign(out.cells + 32, 0);
   for (std::uint32_t c = 0; c < out.cells; ++c) out.copies[c] = copy_corners(topo, c);
   out.rows.assign(std::size_t(topo.dims.ny) * std::size_t(topo.dims.nl), FineRow{});
+  fill_shared_counts(topo.dims, out);
   plan_fine_rows(0, out.rows.size(), topo, out);
 }
 
@@ -204,6 +238,7 @@ void update_fine_springs_at(const Topology& topo, const SpringTable& table, std:
         const std::uint32_t c = d.cell_index(i, j, k);
         assign_cell(topo, table, c, false, out);
         widen_row(topo, c, out);
+        out.rows[std::size_t(k) * std::size_t(d.ny) + std::size_t(j)].shared = -1;  // its counts may differ now
       }
 }
 

@@ -52,11 +52,17 @@ inline constexpr std::uint32_t kSplitCorner = 1u << 30; // ditto: a corner's nod
 // hi: none), and whether any cell of the row has a stiffness factor other than 1 or a corner
 // whose node is a split copy. A range may be wider than its owners (update_fine_springs_at
 // only widens ranges): a cell that does not own the slot adds exact zeros.
+//
+// A row whose counts are those of a whole sheet (most rows, until fracture reaches them) names
+// the row of FineSprings::shared_counts with the same counts (shared >= 0), and the kernel
+// reads that instead of the row's own: the few shared rows stay in cache, whereas each row's
+// own counts are another 28 bytes per cell to fetch from memory in every evaluation.
 struct FineRow {
   std::uint32_t lo[kSpringsPerCell] = {};
   std::uint32_t hi[kSpringsPerCell] = {};
   bool scaled = false;
   bool copies = false;
+  std::int8_t shared = -1;
 };
 
 struct FineSprings {
@@ -79,6 +85,11 @@ struct FineSprings {
   std::vector<std::uint8_t> copies;
   // Per row of cells, index k * ny + j (plan_fine_rows).
   std::vector<FineRow> rows;
+  // The counts of a whole sheet's rows, which depend only on whether the row lies on the
+  // sheet's low or high side in y and in z: per such kind of row (whole_row_kind), laid out
+  // as one row of `count`. Kinds no row of the sheet has are left 0.
+  static constexpr int kRowKinds = 16;
+  AlignedArray<std::uint8_t> shared_counts{12};
 
   // Sizes `count` for `cells` cells in rows of `row_cells`, every count `value`.
   void resize_counts(std::size_t cell_count, std::size_t cells_per_row, std::uint8_t value) {
@@ -94,6 +105,11 @@ struct FineSprings {
   // The counts of slot `slot` for the row of cells that starts at cell `row_start`.
   const std::uint8_t* row_counts(std::size_t row_start, int slot) const {
     return count.data() + row_start * kSpringsPerCell + std::size_t(slot) * row_cells;
+  }
+  // The same counts as the kernel reads them: from shared_counts when the row has a shared row.
+  const std::uint8_t* kernel_counts(const FineRow& row, std::size_t row_start, int slot) const {
+    if (row.shared < 0) return row_counts(row_start, slot);
+    return shared_counts.data() + (std::size_t(row.shared) * kSpringsPerCell + std::size_t(slot)) * row_cells;
   }
   std::uint8_t at(std::size_t cell, int slot) const { return count[count_index(cell, slot)]; }
   void set(std::size_t cell, int slot, std::uint8_t n) { count[count_index(cell, slot)] = n; }
@@ -120,6 +136,8 @@ void update_fine_springs_at(const Topology& topo, const SpringTable& table, std:
 // every cell has been assigned (rows may be planned in parallel). build_fine_springs plans
 // every row.
 void plan_fine_rows(std::size_t row_begin, std::size_t row_end, const Topology& topo, FineSprings& out);
+// Which of FineSprings::shared_counts' rows a whole sheet's row (j, k) has.
+int whole_row_kind(const LatticeDims& dims, int j, int k);
 // Every cell's `copies`, from the topology, and every row: what a table made by hand (counts
 // and owned slots only) needs before the kernel can use it.
 void plan_all_fine_rows(const Topology& topo, FineSprings& out);

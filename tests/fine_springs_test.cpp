@@ -103,6 +103,23 @@ std::array<std::vector<float>, 3> fine_forces(const pt::World& w, const pt::Fine
 
 // Every owner of a slot lies within its row's range, and the row's flags are set where a
 // cell has a split copy or a stiffness factor; the copies bytes are exact.
+// The counts the kernel reads for each row (a shared row's where the row has one) are the
+// row's own. Returns how many rows read a shared row.
+std::size_t require_kernel_counts(const pt::World& w, const pt::FineSprings& fine) {
+  const pt::LatticeDims& d = w.topo.dims;
+  std::size_t wrong = 0, shared = 0;
+  for (std::size_t r = 0; r < fine.rows.size(); ++r) {
+    const std::size_t first = r * std::size_t(d.nx);
+    shared += fine.rows[r].shared >= 0 ? 1 : 0;
+    for (int s = 0; s < pt::kSpringsPerCell; ++s) {
+      const std::uint8_t* got = fine.kernel_counts(fine.rows[r], first, s);
+      for (std::size_t i = 0; i < std::size_t(d.nx); ++i) wrong += got[i] != fine.at(first + i, s) ? 1 : 0;
+    }
+  }
+  CHECK(wrong == 0);
+  return shared;
+}
+
 void require_rows_cover(const pt::World& w, const pt::FineSprings& got) {
   pt::FineSprings fresh = got;
   pt::plan_all_fine_rows(w.topo, fresh);
@@ -117,6 +134,7 @@ void require_rows_cover(const pt::World& w, const pt::FineSprings& got) {
   CHECK(uncovered == 0);
   CHECK(wrong_flags == 0);
   CHECK(got.copies == fresh.copies);
+  require_kernel_counts(w, got);
 }
 
 }  // namespace
@@ -134,6 +152,8 @@ TEST_CASE("a whole sheet's cells own their 13 low springs, the high sides more",
   CHECK(fine.at(d.cell_index(3, 2, 1), 0) == 4);
   CHECK(fine.at(d.cell_index(3, 2, 0), 0) == 2);
   CHECK(fine.at(d.cell_index(3, 2, 1), 24) == 1);  // a body diagonal is never shared
+  // Every row of a whole sheet reads its kind's shared counts.
+  CHECK(require_kernel_counts(w, fine) == fine.rows.size());
 }
 
 TEST_CASE("split nodes give each side its own springs, updated where the split was", "[fine]") {
@@ -149,6 +169,11 @@ TEST_CASE("split nodes give each side its own springs, updated where the split w
   }
   require_same(w, fine, brute_force(w));
   require_rows_cover(w, fine);
+  // The rows around the splits read their own counts, the others still the shared ones.
+  const std::size_t shared = require_kernel_counts(w, fine);
+  CHECK(shared > 0);
+  CHECK(shared < fine.rows.size());
+  CHECK(fine.rows[std::size_t(2) * std::size_t(d.ny) + 4].shared < 0);
 }
 
 TEST_CASE("the solver keeps its merged springs in step with a tearing sheet", "[fine]") {
