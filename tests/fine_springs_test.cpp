@@ -101,8 +101,6 @@ std::array<std::vector<float>, 3> fine_forces(const pt::World& w, const pt::Fine
   return f;
 }
 
-// Every owner of a slot lies within its row's range, and the row's flags are set where a
-// cell has a split copy or a stiffness factor; the copies bytes are exact.
 // The counts the kernel reads for each row (a shared row's where the row has one) are the
 // row's own. Returns how many rows read a shared row.
 std::size_t require_kernel_counts(const pt::World& w, const pt::FineSprings& fine) {
@@ -120,6 +118,9 @@ std::size_t require_kernel_counts(const pt::World& w, const pt::FineSprings& fin
   return shared;
 }
 
+// Every owner of a slot lies within its row's range, and the row's flags are set where a
+// cell has a split copy or a stiffness factor; the copies bytes are exact; the counts the
+// kernel reads are the row's own.
 void require_rows_cover(const pt::World& w, const pt::FineSprings& got) {
   pt::FineSprings fresh = got;
   pt::plan_all_fine_rows(w.topo, fresh);
