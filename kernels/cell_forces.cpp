@@ -272,7 +272,7 @@ struct DirtyCells {
     for (int l = 0; l < W; ++l) {
       const std::size_t c = r.cell0 + cells[l];
       scale[l] = in.cell_scale[c];
-      for (int s = 0; s < kSpringsPerCell; ++s) counts[s][l] = float(in.fine->at(c, s));
+      for (int s = 0; s < kSpringsPerCell; ++s) counts[s][l] = float(in.fine->row_counts(r.cell0, s)[cells[l]]);
       for (int q = 0; q < 8; ++q) {
         node[q][l] = in.cell_nodes[c * 8 + std::size_t(q)];
         for (int f = 0; f < 6; ++f) value[f][q][l] = src[f][node[q][l]];
