@@ -53,7 +53,8 @@ SolverFootprint solver_footprint(const World& w) {
   // The solver's derived tables, built here as the solver builds them.
   FineSprings fine;
   build_fine_springs(w.topo, w.springs, fine);
-  const double fine_bytes = double(fine.count.size()) + double(fine.shared_counts.size()) + double(fine.owned.size()) * 4 + double(fine.copies.size()) +
+  const double fine_bytes = double(fine.count.size()) + double(fine.shared_counts.size()) +
+                            double(fine.owned.size()) * 4 + double(fine.copies.size()) +
                             double(fine.rows.size() * sizeof(FineRow));
   BlockLattice lattice;
   build_block_lattice(w.coarse, w.blocks, w.topo.dims, lattice);

@@ -143,6 +143,13 @@ bool uniform_springs(const Topology& topo, const SpringTable& table) {
   return true;
 }
 
+// Which of FineSprings::shared_counts' rows a whole sheet's row (j, k) has: its counts
+// depend only on whether it lies on the sheet's low or high side in y and in z.
+int whole_row_kind(const LatticeDims& d, int j, int k) {
+  const int y = (j == 0 ? 1 : 0) | (j + 1 == d.ny ? 2 : 0), z = (k == 0 ? 1 : 0) | (k + 1 == d.nl ? 2 : 0);
+  return y * 4 + z;
+}
+
 // FineSprings::shared_counts for the kinds of row the sheet has, from whole_sheet_count.
 void fill_shared_counts(const LatticeDims& d, FineSprings& out) {
   const std::size_t nx = std::size_t(d.nx), run = kSpringsPerCell * nx;
@@ -170,11 +177,6 @@ std::int8_t shared_row_of(const LatticeDims& d, std::size_t r, const FineSprings
 }
 
 }  // namespace
-
-int whole_row_kind(const LatticeDims& d, int j, int k) {
-  const int y = (j == 0 ? 1 : 0) | (j + 1 == d.ny ? 2 : 0), z = (k == 0 ? 1 : 0) | (k + 1 == d.nl ? 2 : 0);
-  return y * 4 + z;
-}
 
 FineSpringsBuild prepare_fine_springs(const Topology& topo, const SpringTable& table, FineSprings& out) {
   const LatticeDims& d = topo.dims;

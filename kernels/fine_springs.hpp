@@ -86,8 +86,9 @@ struct FineSprings {
   // Per row of cells, index k * ny + j (plan_fine_rows).
   std::vector<FineRow> rows;
   // The counts of a whole sheet's rows, which depend only on whether the row lies on the
-  // sheet's low or high side in y and in z: per such kind of row (whole_row_kind), laid out
-  // as one row of `count`. Kinds no row of the sheet has are left 0.
+  // sheet's low or high side in y and in z: per such kind of row (whole_row_kind in
+  // kernels/fine_springs.cpp), laid out as one row of `count`. Kinds no row of the sheet has
+  // are left 0.
   static constexpr int kRowKinds = 16;
   AlignedArray<std::uint8_t> shared_counts{12};
 
@@ -136,8 +137,6 @@ void update_fine_springs_at(const Topology& topo, const SpringTable& table, std:
 // every cell has been assigned (rows may be planned in parallel). build_fine_springs plans
 // every row.
 void plan_fine_rows(std::size_t row_begin, std::size_t row_end, const Topology& topo, FineSprings& out);
-// Which of FineSprings::shared_counts' rows a whole sheet's row (j, k) has.
-int whole_row_kind(const LatticeDims& dims, int j, int k);
 // Every cell's `copies`, from the topology, and every row: what a table made by hand (counts
 // and owned slots only) needs before the kernel can use it.
 void plan_all_fine_rows(const Topology& topo, FineSprings& out);
