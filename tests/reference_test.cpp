@@ -243,11 +243,12 @@ TEST_CASE("the solver's strips add the same bits as one sweep of the rows when t
   }
 }
 
-TEST_CASE("split copies patched into vector sweeps add the same bits as one lane at a time", "[reference]") {
+TEST_CASE("cells with split copies summed after the sweep: the same bits as one lane at a time", "[reference]") {
   // 37 cells per row: whole vectors and an overlapping last one; 21 and 7: rows of two
   // vectors or one and a remainder, or shorter than a vector (8 or 16 lanes). Splits all over
-  // the sheet leave many vectors with a few lanes whose corner node is a split copy: those
-  // lanes take that end from the copy and add their force to it one lane at a time.
+  // the sheet leave many vectors with a few lanes whose cell has a split copy among its
+  // corners: those lanes add zeros in the sweep, and their cells are summed cell by cell
+  // after their chunk (DirtyCells), in cell order whatever the vector width.
   const bool random_scales = GENERATE(true, false);
   const int nx = GENERATE(37, 21, 7);
   INFO("random stiffness factors: " << random_scales << ", cells per row " << nx);
