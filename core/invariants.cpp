@@ -27,8 +27,7 @@ void check_cells(const World& w, Report& r, std::vector<double>& mass) {
               std::to_string(n) + " beyond the node count " + std::to_string(w.nodes.count));
         continue;
       }
-      const std::uint32_t v = d.vertex_index(ijk[0] + corner_bit(q, 0), ijk[1] + corner_bit(q, 1),
-                                             ijk[2] + corner_bit(q, 2));
+      const std::uint32_t v = d.corner_vertex(ijk, q);
       if (w.nodes.vertex[n] != v)
         r.add("node " + std::to_string(n) + " used by cell " + std::to_string(c) + " at vertex " +
               std::to_string(v) + " but recorded at vertex " + std::to_string(w.nodes.vertex[n]));

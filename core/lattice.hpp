@@ -81,6 +81,11 @@ struct LatticeDims {
     int k = int(c / (std::uint32_t(nx) * std::uint32_t(ny)));
     return {i, j, k};
   }
+  // The lattice vertex at corner q of the cell at ijk (corner numbering above).
+  std::uint32_t corner_vertex(const std::array<int, 3>& ijk, int q) const {
+    return vertex_index(ijk[0] + corner_bit(q, 0), ijk[1] + corner_bit(q, 1), ijk[2] + corner_bit(q, 2));
+  }
+  std::uint32_t corner_vertex(std::uint32_t c, int q) const { return corner_vertex(cell_ijk(c), q); }
   std::array<int, 3> vertex_ijk(std::uint32_t v) const {
     std::uint32_t sx = std::uint32_t(nx + 1), sy = std::uint32_t(ny + 1);
     return {int(v % sx), int((v / sx) % sy), int(v / (sx * sy))};

@@ -157,7 +157,7 @@ void open_faces(World& w, const std::vector<std::uint8_t>& opened) {
       if (!(opened[c] & (1u << face))) continue;
       const auto ijk = d.cell_ijk(c);
       for (int q : face_corners(face))
-        vertices.push_back(d.vertex_index(ijk[0] + corner_bit(q, 0), ijk[1] + corner_bit(q, 1), ijk[2] + corner_bit(q, 2)));
+        vertices.push_back(d.corner_vertex(ijk, q));
     }
   std::sort(vertices.begin(), vertices.end());
   vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());

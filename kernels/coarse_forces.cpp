@@ -95,12 +95,6 @@ void spring_forces_with(std::size_t begin, std::size_t end, const Slots& slots, 
   for (; i < end; ++i) CoarseLanes<float>::run(i, slots, sp, in, out);
 }
 
-std::uint32_t end_vertex(const LatticeDims& d, std::uint32_t cell, int corner) {
-  const auto ijk = d.cell_ijk(cell);
-  return d.vertex_index(ijk[0] + corner_bit(corner, 0), ijk[1] + corner_bit(corner, 1),
-                        ijk[2] + corner_bit(corner, 2));
-}
-
 // W blocks' 28 springs on their 8 corners (the cell kernel's body with per-lane slot
 // parameters). An absent spring (k = c = 0) is zeroed by select, so even a degenerate
 // zero-length pair adds exactly nothing.
@@ -223,7 +217,7 @@ void build_block_lattice(const CoarseSprings& sp, const std::vector<Block>& bloc
   L.first.assign(vertices + 1, 0);
   auto vertex_of = [&](std::size_t j, int q) {
     const std::uint32_t s = L.corner_slot[std::size_t(q) * P + j];
-    return end_vertex(d, s / 8u, int(s % 8u));
+    return d.corner_vertex(s / 8u, int(s % 8u));
   };
   for (std::size_t j = 0; j < P; ++j)
     for (int q = 0; q < 8; ++q)

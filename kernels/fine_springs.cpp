@@ -85,7 +85,7 @@ bool corners_whole(const Topology& topo, const FineSpringsBuild& build, std::uin
   const LatticeDims& d = topo.dims;
   const auto ijk = d.cell_ijk(c);
   for (int q = 0; q < kCornersPerCell; ++q)
-    if (!build.whole_vertex[d.vertex_index(ijk[0] + corner_bit(q, 0), ijk[1] + corner_bit(q, 1), ijk[2] + corner_bit(q, 2))])
+    if (!build.whole_vertex[d.corner_vertex(ijk, q)])
       return false;
   return true;
 }
@@ -96,7 +96,7 @@ std::uint8_t copy_corners(const Topology& topo, std::uint32_t c) {
   const auto ijk = d.cell_ijk(c);
   std::uint8_t bits = 0;
   for (int q = 0; q < kCornersPerCell; ++q)
-    if (topo.node(c, q) != d.vertex_index(ijk[0] + corner_bit(q, 0), ijk[1] + corner_bit(q, 1), ijk[2] + corner_bit(q, 2)))
+    if (topo.node(c, q) != d.corner_vertex(ijk, q))
       bits = std::uint8_t(bits | (1u << q));
   return bits;
 }
@@ -191,7 +191,7 @@ FineSpringsBuild prepare_fine_springs(const Topology& topo, const SpringTable& t
   for (std::uint32_t c = 0; c < out.cells; ++c) {
     const auto ijk = d.cell_ijk(c);
     for (int q = 0; q < kCornersPerCell; ++q) {
-      const std::uint32_t v = d.vertex_index(ijk[0] + corner_bit(q, 0), ijk[1] + corner_bit(q, 1), ijk[2] + corner_bit(q, 2));
+      const std::uint32_t v = d.corner_vertex(ijk, q);
       if (topo.node(c, q) != v) build.whole_vertex[v] = 0;
     }
   }

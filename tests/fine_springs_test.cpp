@@ -70,8 +70,7 @@ void require_same(const pt::World& w, const pt::FineSprings& got, const pt::Fine
     const auto ijk = d.cell_ijk(c);
     bool split = false;
     for (int q = 0; q < pt::kCornersPerCell; ++q)
-      split |= w.topo.node(c, q) != d.vertex_index(ijk[0] + pt::corner_bit(q, 0), ijk[1] + pt::corner_bit(q, 1),
-                                                   ijk[2] + pt::corner_bit(q, 2));
+      split |= w.topo.node(c, q) != d.corner_vertex(ijk, q);
     wrong_flags += ((got.owned[c] & pt::kSplitCorner) != 0) != split ? 1 : 0;
   }
   CHECK(wrong == 0);
