@@ -54,7 +54,7 @@ inline constexpr std::size_t kBlockChunk = 256;  // block-lattice lanes
 // Fine springs: cell rows (values of j) per strip. Small enough that a strip's nodes stay in
 // cache while its rows are swept and that even a 90-row sheet gives each thread several strips.
 inline constexpr int kStripRows = 4;
-static_assert(kBlockChunk % kBlockLanes == 0, "block chunks hold whole vectors");
+static_assert(kBlockChunk % kPackLanes == 0, "block chunks hold whole packs (and so whole vectors)");
 
 // Adds the fine spring forces only, by the solver's strips of rows (for benchmarks and tests).
 void add_fine_forces(const Topology& topo, const CellForceInputs& in, const ForceOutputs& out);

@@ -1,6 +1,9 @@
 #include "kernels/coarse_forces.hpp"
 
 #include <algorithm>
+#include <cassert>
+#include <cstdint>
+#include <iterator>
 #include <type_traits>
 
 #include "kernels/lanes.hpp"
@@ -95,6 +98,66 @@ void spring_forces_with(std::size_t begin, std::size_t end, const Slots& slots, 
   for (; i < end; ++i) CoarseLanes<float>::run(i, slots, sp, in, out);
 }
 
+// A pack's rows: the stage state of its distinct corner nodes.
+using PackState = float[kPackRows][8];
+
+#if !defined(PAPERTEAR_NO_SIMD) && XSIMD_WITH_AVX2
+// r[i][l] becomes r[l][i]: pairs interleaved, then quads, then the 128-bit halves swapped.
+inline void transpose_8x8(__m256 (&r)[8]) {
+  __m256 t[8], s[8];
+  for (int i = 0; i < 8; i += 2) {
+    t[i] = _mm256_unpacklo_ps(r[i], r[i + 1]);
+    t[i + 1] = _mm256_unpackhi_ps(r[i], r[i + 1]);
+  }
+  for (int i = 0; i < 8; i += 4)
+    for (int h = 0; h < 2; ++h) {
+      s[i + 2 * h] = _mm256_shuffle_ps(t[i + h], t[i + h + 2], 0x44);
+      s[i + 2 * h + 1] = _mm256_shuffle_ps(t[i + h], t[i + h + 2], 0xEE);
+    }
+  for (int i = 0; i < 4; ++i) {
+    r[i] = _mm256_permute2f128_ps(s[i], s[i + 4], 0x20);
+    r[i + 4] = _mm256_permute2f128_ps(s[i], s[i + 4], 0x31);
+  }
+}
+#endif
+
+// Copies the stage state of pack p's distinct corner nodes into its rows.
+void fill_pack(const BlockLattice& L, std::size_t p, const CellForceInputs& in, PackState& state) {
+  const std::uint32_t* nodes = L.pack_node.data() + p * kPackRows;
+  for (std::size_t r = 0; r < L.pack_rows[p]; ++r) {
+    const std::uint32_t n = nodes[r];
+    float* row = state[r];
+    row[0] = in.px[n]; row[1] = in.py[n]; row[2] = in.pz[n];
+    row[3] = in.vx[n]; row[4] = in.vy[n]; row[5] = in.vz[n];
+    row[6] = row[7] = 0.0f;
+  }
+}
+
+// Pack p's distinct corner nodes and each block corner's row, in the order the corners come
+// (corner by corner, lane by lane), through a small open-addressing table.
+void build_pack(BlockLattice& L, std::size_t p) {
+  constexpr std::size_t kSlots = 2 * kPackRows;  // power of two, at most half full
+  std::uint32_t key[kSlots];                     // node + 1; 0: empty
+  std::uint16_t row_of[kSlots];
+  std::fill(std::begin(key), std::end(key), 0u);
+  const std::size_t P = L.lanes, lo = p * kPackLanes, hi = std::min(P, lo + kPackLanes);
+  std::uint32_t* nodes = L.pack_node.data() + p * kPackRows;
+  std::uint16_t rows = 0;
+  for (std::size_t q = 0; q < 8; ++q)
+    for (std::size_t j = lo; j < hi; ++j) {
+      const std::uint32_t n = L.corner_node[q * P + j];
+      std::size_t h = (n * 2654435761u) & (kSlots - 1);
+      while (key[h] != 0 && key[h] != n + 1) h = (h + 1) & (kSlots - 1);
+      if (key[h] == 0) {
+        key[h] = n + 1;
+        row_of[h] = rows;
+        nodes[rows++] = n;
+      }
+      L.corner_row[q * P + j] = row_of[h];
+    }
+  L.pack_rows[p] = rows;
+}
+
 // W blocks' 28 springs on their 8 corners (the cell kernel's body with per-lane slot
 // parameters). An absent spring (k = c = 0) is zeroed by select, so even a degenerate
 // zero-length pair adds exactly nothing.
@@ -103,28 +166,26 @@ struct BlockLanes {
   using T = lanes::Traits<V>;
   static constexpr std::size_t W = T::width;
 
-  // Corner q of lane l is node nodes[q * stride + l]: scalar loads through an aligned buffer.
-  static void load_corners(const std::uint32_t* nodes, std::size_t stride, const CellForceInputs& in, V (&x)[8],
+  // Corner q of lane l is row rows[q * stride + l] of the pack's state (x y z vx vy vz, 0, 0).
+  static void load_corners(const std::uint16_t* rows, std::size_t stride, const PackState& state, V (&x)[8],
                            V (&y)[8], V (&z)[8], V (&u)[8], V (&v)[8], V (&w)[8]) {
 #if !defined(PAPERTEAR_NO_SIMD) && XSIMD_WITH_AVX2
-    // The blocks' corners are scattered over the sheet: hardware gathers keep the loads in
-    // flight together instead of funnelling 384 scalar stores through the buffer. Same values.
+    // Row l holds lane l's 6 values; after the transpose, register f holds value f of all 8.
     if constexpr (std::is_same_v<V, xsimd::batch<float, xsimd::avx2>>) {
       for (std::size_t q = 0; q < 8; ++q) {
-        const __m256i n = _mm256_load_si256(reinterpret_cast<const __m256i*>(nodes + q * stride));
-        x[q] = _mm256_i32gather_ps(in.px, n, 4); y[q] = _mm256_i32gather_ps(in.py, n, 4);
-        z[q] = _mm256_i32gather_ps(in.pz, n, 4); u[q] = _mm256_i32gather_ps(in.vx, n, 4);
-        v[q] = _mm256_i32gather_ps(in.vy, n, 4); w[q] = _mm256_i32gather_ps(in.vz, n, 4);
+        __m256 r[8];
+        for (std::size_t l = 0; l < 8; ++l) r[l] = _mm256_load_ps(state[rows[q * stride + l]]);
+        transpose_8x8(r);
+        x[q] = r[0]; y[q] = r[1]; z[q] = r[2]; u[q] = r[3]; v[q] = r[4]; w[q] = r[5];
       }
       return;
     }
 #endif
     alignas(64) float buf[6][8][W];
-    const float* src[6] = {in.px, in.py, in.pz, in.vx, in.vy, in.vz};
     for (std::size_t q = 0; q < 8; ++q)
       for (std::size_t l = 0; l < W; ++l) {
-        const std::uint32_t n = nodes[q * stride + l];
-        for (int f = 0; f < 6; ++f) buf[f][q][l] = src[f][n];
+        const float* row = state[rows[q * stride + l]];
+        for (int f = 0; f < 6; ++f) buf[f][q][l] = row[f];
       }
     for (int q = 0; q < 8; ++q) {
       x[q] = T::load(buf[0][q]); y[q] = T::load(buf[1][q]); z[q] = T::load(buf[2][q]);
@@ -132,10 +193,10 @@ struct BlockLanes {
     }
   }
 
-  static void run(std::size_t j, const CellForceInputs& in, BlockLattice& L) {
+  static void run(std::size_t j, const PackState& state, BlockLattice& L) {
     const std::size_t P = L.lanes;
     V x[8], y[8], z[8], u[8], v[8], w[8], fx[8], fy[8], fz[8];
-    load_corners(L.corner_node.data() + j, P, in, x, y, z, u, v, w);
+    load_corners(L.corner_row.data() + j, P, state, x, y, z, u, v, w);
     for (int q = 0; q < 8; ++q) fx[q] = fy[q] = fz[q] = T::broadcast(0.0f);
     const V one = T::broadcast(1.0f);
     // Fully unrolled, so that corner values and sums index registers, not a stack array.
@@ -191,6 +252,9 @@ void build_block_lattice(const CoarseSprings& sp, const std::vector<Block>& bloc
   std::fill(L.corner_slot.begin(), L.corner_slot.end(), 0u);
   L.corner_node.resize(8 * P);
   L.live.resize(P);
+  L.pack_node.assign((P + kPackLanes - 1) / kPackLanes * kPackRows, 0u);
+  L.pack_rows.assign((P + kPackLanes - 1) / kPackLanes, 0);
+  L.corner_row.assign(8 * P, 0);
   for (AlignedArray<float>* a : {&L.rest, &L.stiffness, &L.damping}) {
     a->resize(kSpringsPerCell * P);
     std::fill(a->begin(), a->end(), 0.0f);
@@ -237,8 +301,19 @@ void build_block_lattice(const CoarseSprings& sp, const std::vector<Block>& bloc
 
 void refresh_block_lattice(std::size_t begin, std::size_t end, const Topology& topo,
                            const std::vector<Block>& blocks, BlockLattice& L) {
-  for (std::size_t q = 0; q < 8; ++q)
-    for (std::size_t j = begin; j < end; ++j) L.corner_node[q * L.lanes + j] = topo.cell_nodes[L.corner_slot[q * L.lanes + j]];
+  assert(begin % kPackLanes == 0 && (end % kPackLanes == 0 || end == L.lanes));
+  const std::size_t P = L.lanes;
+  for (std::size_t lo = begin; lo < end; lo += kPackLanes) {
+    const std::size_t hi = std::min(end, lo + kPackLanes), p = lo / kPackLanes;
+    bool moved = L.pack_rows[p] == 0;  // a split gives some corner a new node: pack again
+    for (std::size_t q = 0; q < 8; ++q)
+      for (std::size_t j = lo; j < hi; ++j) {
+        const std::uint32_t n = topo.cell_nodes[L.corner_slot[q * P + j]];
+        moved |= n != L.corner_node[q * P + j];
+        L.corner_node[q * P + j] = n;
+      }
+    if (moved) build_pack(L, p);
+  }
   for (std::size_t j = begin; j < end; ++j)
     L.live[j] = L.block[j] != UINT32_MAX && blocks[L.block[j]].intact ? 1.0f : 0.0f;
 }
@@ -246,7 +321,12 @@ void refresh_block_lattice(std::size_t begin, std::size_t end, const Topology& t
 void block_lattice_forces(std::size_t begin, std::size_t end, const CellForceInputs& in, BlockLattice& L) {
   const FlushSubnormals flush;
   constexpr std::size_t W = BlockLanes<BlockLane>::W;
-  for (std::size_t j = begin; j < end; j += W) BlockLanes<BlockLane>::run(j, in, L);
+  alignas(64) PackState state;
+  std::size_t packed = SIZE_MAX;
+  for (std::size_t j = begin; j < end; j += W) {
+    if (j / kPackLanes != packed) fill_pack(L, packed = j / kPackLanes, in, state);
+    BlockLanes<BlockLane>::run(j, state, L);
+  }
 }
 
 void gather_block_lattice_forces(std::size_t vbegin, std::size_t vend, const BlockLattice& L, const ForceOutputs& out) {

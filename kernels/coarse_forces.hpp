@@ -7,7 +7,12 @@
 //     whether it is still intact;
 //   pass 1, parallel over blocks (block_lattice_forces): loads each block's 8 corners once,
 //     runs its springs in slot order and writes one force sum per block corner (zero for a
-//     block a crack has entered);
+//     block a crack has entered). The corners come from a pack: per kPackLanes lanes, the
+//     stage state of the distinct nodes their corners name, copied into one row of 8 floats
+//     per node (x y z vx vy vz, 0, 0); a corner of 8 lanes is then 8 row loads and a
+//     transpose. Why: 6 hardware gathers per corner cost Zen 3 about twice the whole pass's
+//     arithmetic, cache hits or not, and the pack reads each node once where the blocks'
+//     corners name it 2–3 times;
 //   pass 2, parallel over lattice vertices (gather_block_lattice_forces): each vertex adds
 //     the corner sums of the blocks with a corner there, in ascending block id, to the
 //     corner's node.
@@ -40,6 +45,10 @@ struct CoarseForceScratch {
 
 // Lanes hold blocks that have springs, padded to a multiple of kBlockLanes.
 inline constexpr std::size_t kBlockLanes = 16;
+// Lanes per pack (see pass 1 above); its rows (at most one per block corner, 16 KiB) stay in L1.
+inline constexpr std::size_t kPackLanes = 64;
+inline constexpr std::size_t kPackRows = 8 * kPackLanes;
+static_assert(kPackLanes % kBlockLanes == 0, "a pack holds whole vectors");
 // Spring parameters are stored in groups of this many lanes, a group's 28 slots back to back:
 // one vector evaluation then reads 3 contiguous runs instead of 84 cache lines far apart.
 inline constexpr std::size_t kBlockGroup = 8;
@@ -52,6 +61,12 @@ struct BlockLattice {
   // intact block, 0 for an entered one or padding.
   AlignedArray<std::uint32_t> corner_node{7};
   AlignedArray<float> live{8};
+  // Refreshed with corner_node, per pack: its distinct corner nodes, pack_node[pack *
+  // kPackRows + row] for row < pack_rows[pack] (0: not built yet), and per block corner its
+  // row, corner_row[corner * lanes + lane].
+  std::vector<std::uint32_t> pack_node;
+  std::vector<std::uint16_t> pack_rows;
+  std::vector<std::uint16_t> corner_row;
   AlignedArray<float> rest{1}, stiffness{2}, damping{3};  // at param_at(lane, slot); absent: 0
   AlignedArray<float> fx{4}, fy{5}, fz{6};     // pass 1 output: [corner * lanes + lane]
   std::vector<std::uint32_t> first;            // per vertex + 1: offsets into entry
@@ -70,9 +85,12 @@ struct BlockLattice {
 void build_block_lattice(const CoarseSprings& springs, const std::vector<Block>& blocks,
                          const LatticeDims& dims, BlockLattice& out);
 // The refresh for lanes [begin, end): needed after build and after any split or entered block.
+// begin is a multiple of kPackLanes (a pack is refreshed by one call), end one too or the
+// lane count.
 void refresh_block_lattice(std::size_t begin, std::size_t end, const Topology& topo,
                            const std::vector<Block>& blocks, BlockLattice& lattice);
-// Pass 1 for lanes [begin, end) (multiples of kBlockLanes except at the end).
+// Pass 1 for lanes [begin, end) (multiples of kBlockLanes except at the end; a pack cut by a
+// range is packed whole by each call that needs it).
 void block_lattice_forces(std::size_t begin, std::size_t end, const CellForceInputs& in, BlockLattice& lattice);
 // Pass 2 for lattice vertices [vbegin, vend).
 void gather_block_lattice_forces(std::size_t vbegin, std::size_t vend, const BlockLattice& lattice,

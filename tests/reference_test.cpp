@@ -369,6 +369,67 @@ TEST_CASE("fine and coarse kernels match the reference spring forces", "[referen
   CHECK(largest_force > 1e-2);  // the perturbation really loads the springs
 }
 
+// The solver's block-lattice path (packed corners, per-block sums, the gather) against the
+// per-spring path on the same world, node by node: the two add the same terms in different
+// orders, so they agree within m kEpsF of the sum of the m terms' sizes at a node.
+std::size_t block_lattice_mismatches(const pt::World& w, pt::BlockLattice& L) {
+  pt::FineSprings fine;
+  const pt::CellForceInputs in = cell_inputs(w, fine);
+  for (std::size_t b = 0; b < L.lanes; b += pt::kBlockChunk)
+    pt::refresh_block_lattice(b, std::min(L.lanes, b + pt::kBlockChunk), w.topo, w.blocks, L);
+  pt::block_lattice_forces(0, L.lanes, in, L);
+  Forces lattice(w.nodes.count);
+  pt::gather_block_lattice_forces(0, L.first.size() - 1, L, lattice.outputs());
+
+  const std::size_t n = w.coarse.size();
+  pt::CoarseForceScratch per{std::vector<float>(n), std::vector<float>(n), std::vector<float>(n)};
+  pt::coarse_spring_forces(0, n, w.coarse, w.topo, in, per);
+  Forces springs(w.nodes.count);
+  pt::scatter_coarse_forces(w.coarse, w.topo, per, springs.outputs());
+  std::vector<double> size(w.nodes.count, 0.0);
+  std::vector<int> terms(w.nodes.count, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double f = std::fabs(per.fx[i]) + std::fabs(per.fy[i]) + std::fabs(per.fz[i]);
+    for (std::uint32_t node : {w.topo.node(w.coarse.cell_a[i], w.coarse.corner_a[i]),
+                               w.topo.node(w.coarse.cell_b[i], w.coarse.corner_b[i])}) {
+      size[node] += f;
+      terms[node] += 1;
+    }
+  }
+  std::size_t wrong = 0;
+  for (std::size_t i = 0; i < w.nodes.count; ++i) {
+    const double tol = 2.0 * kEpsF * (terms[i] + 2) * size[i];
+    wrong += std::fabs(lattice.x[i] - springs.x[i]) > tol || std::fabs(lattice.y[i] - springs.y[i]) > tol ||
+                     std::fabs(lattice.z[i] - springs.z[i]) > tol
+                 ? 1
+                 : 0;
+  }
+  return wrong;
+}
+
+TEST_CASE("the block lattice's packed corners give the per-spring forces before and after splits", "[reference]") {
+  pt::Scene scene = small_pull_scene();
+  scene.sheet.cells = {40, 12, 3};
+  pt::World w = perturbed_world(scene, 23, 0.1f, 0.05f);
+  pt::BlockLattice L;
+  pt::build_block_lattice(w.coarse, w.blocks, w.topo.dims, L);
+  REQUIRE(L.lanes > 2 * pt::kPackLanes);  // several packs, the last one partial or not
+  CHECK(block_lattice_mismatches(w, L) == 0);
+
+  // Splits give block corners new nodes; moving every node afterwards makes the copies'
+  // state differ from their originals', so a pack left with its old rows reads wrong values.
+  const auto before = std::vector<std::uint32_t>(L.corner_node.begin(), L.corner_node.end());
+  const pt::LatticeDims& d = w.topo.dims;
+  for (int i = 3; i < d.nx; i += 4)
+    for (int j = 1; j < d.ny; j += 3)
+      REQUIRE(pt::split_node(w, pt::NodeId(d.vertex_index(i, j, 1)), (i + j) % 2, 1).valid());
+  perturb(w, 29, 0.05f, 0.05f);
+  CHECK(block_lattice_mismatches(w, L) == 0);
+  std::size_t moved = 0;
+  for (std::size_t i = 0; i < before.size(); ++i) moved += before[i] != L.corner_node[i] ? 1 : 0;
+  CHECK(moved > 0);
+}
+
 TEST_CASE("vector and scalar sweeps give the same bits", "[reference]") {
   const bool random_scales = GENERATE(true, false);
   INFO("random stiffness factors: " << random_scales);
