@@ -171,12 +171,14 @@ Forces cell_forces(const pt::World& w, RowKernel kernel, int j0 = 0, int j1 = -1
   return f;
 }
 
-void add_coarse_forces(const pt::World& w, Forces& f) {
+// Adds the block springs' forces by the per-spring path and returns each spring's force.
+pt::CoarseForceScratch add_coarse_forces(const pt::World& w, Forces& f) {
   const std::size_t n = w.coarse.size();
   pt::CoarseForceScratch scratch{std::vector<float>(n), std::vector<float>(n), std::vector<float>(n)};
   pt::FineSprings fine;
   pt::coarse_spring_forces(0, n, w.coarse, w.topo, cell_inputs(w, fine), scratch);
   pt::scatter_coarse_forces(w.coarse, w.topo, scratch, f.outputs());
+  return scratch;
 }
 
 // Per-node bound on the float kernel's rounding error, from the springs at that node.
@@ -387,11 +389,9 @@ LatticeComparison compare_block_lattice(const pt::World& w, pt::BlockLattice& L)
   Forces lattice(w.nodes.count);
   pt::gather_block_lattice_forces(0, L.first.size() - 1, L, lattice.outputs());
 
-  const std::size_t n = w.coarse.size();
-  pt::CoarseForceScratch per{std::vector<float>(n), std::vector<float>(n), std::vector<float>(n)};
-  pt::coarse_spring_forces(0, n, w.coarse, w.topo, in, per);
   Forces springs(w.nodes.count);
-  pt::scatter_coarse_forces(w.coarse, w.topo, per, springs.outputs());
+  const pt::CoarseForceScratch per = add_coarse_forces(w, springs);
+  const std::size_t n = w.coarse.size();
   std::vector<double> size(w.nodes.count, 0.0);
   std::vector<int> terms(w.nodes.count, 0);
   for (std::size_t i = 0; i < n; ++i) {
