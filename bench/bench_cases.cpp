@@ -60,7 +60,7 @@ SolverFootprint solver_footprint(const World& w) {
   build_block_lattice(w.coarse, w.blocks, w.topo.dims, lattice);
   const double lattice_bytes =
       double(lattice.block.size() + lattice.corner_slot.size() + lattice.corner_node.size() + lattice.first.size() +
-             lattice.entry.size() + lattice.pack_node.size()) * 4 +
+             lattice.entry.size() + lattice.entry_node.size() + lattice.pack_node.size()) * 4 +
       double(lattice.pack_rows.size() + lattice.corner_row.size()) * 2 +
       double(lattice.live.size() + lattice.rest.size() + lattice.stiffness.size() + lattice.damping.size() +
              lattice.fx.size() + lattice.fy.size() + lattice.fz.size()) * 4;

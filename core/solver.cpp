@@ -165,13 +165,19 @@ std::size_t fused_node_end(const World& w) {
 // Nodes from splits (and the few original ones past the last multiple of 64) wait for all
 // gathers and are updated after the region. RK4 is per node, so the partition cannot change
 // its bits; `bad` holds per task the first node that blew up, in node order.
-void stage_nodes(World& w, SolverScratch& scratch, const ForceOutputs& out, const StageParams& params) {
-  const BlockLattice& lattice = scratch.lattice;
+// `new_topology`: pass 1 has just refreshed the block lattice, so each task first records its
+// vertices' entry nodes for the gather.
+void stage_nodes(World& w, SolverScratch& scratch, const ForceOutputs& out, const StageParams& params,
+                 bool new_topology) {
+  BlockLattice& lattice = scratch.lattice;
   const std::size_t vertices = std::size_t(w.topo.dims.vertices()), fused = fused_node_end(w);
   static_assert(kVertexChunk % 64 == 0, "vertex chunks start nodes at aligned ids");
   const std::size_t tasks = chunk_count(vertices, kVertexChunk);
   parallel_chunks(vertices, kVertexChunk, [&](std::size_t b, std::size_t e, std::size_t c) {
-    if (lattice.lanes != 0) gather_block_lattice_forces(b, e, lattice, out);
+    if (lattice.lanes != 0) {
+      if (new_topology) refresh_block_entries(b, e, lattice);
+      gather_block_lattice_forces(b, e, lattice, out);
+    }
     if (b < fused) scratch.bad[c] = rk4_stage(b, std::min(e, fused), params, w.nodes, w.scratch);
   });
   parallel_chunks(w.nodes.count - fused, kNodeChunk, [&](std::size_t b, std::size_t e, std::size_t c) {
@@ -192,9 +198,10 @@ void evaluate_forces(World& w, SolverScratch& scratch) {
   const CellForceInputs in = stage_inputs(w, scratch);
   const ForceOutputs out = force_outputs(w);
   add_fine_and_block_forces(w, scratch, in, out, true);
-  const BlockLattice& lattice = scratch.lattice;
+  BlockLattice& lattice = scratch.lattice;
   if (lattice.lanes == 0) return;
   parallel_chunks(lattice.first.size() - 1, kVertexChunk, [&](std::size_t b, std::size_t e, std::size_t) {
+    refresh_block_entries(b, e, lattice);
     gather_block_lattice_forces(b, e, lattice, out);
   });
 }
@@ -215,8 +222,9 @@ void integrate_step(World& w, SolverScratch& scratch) {
   constexpr double kStageTime[4] = {0.0, 0.5, 0.5, 1.0};
   for (int stage = 1; stage <= 4; ++stage) {
     if (indenter) apply_contact(w, *indenter, w.time + kStageTime[stage - 1] * w.dt);
-    add_fine_and_block_forces(w, scratch, in, out, stage == 1 && new_topology);  // splits come between steps
-    stage_nodes(w, scratch, out, stage_params(w, stage));
+    const bool refresh = stage == 1 && new_topology;  // splits come between steps
+    add_fine_and_block_forces(w, scratch, in, out, refresh);
+    stage_nodes(w, scratch, out, stage_params(w, stage), refresh);
   }
   for (std::uint32_t bad : scratch.bad)
     if (bad != kNone) report_blow_up(w, bad);

@@ -288,6 +288,7 @@ void build_block_lattice(const CoarseSprings& sp, const std::vector<Block>& bloc
       if (used[std::size_t(q) * P + j]) ++L.first[vertex_of(j, q) + 1];
   for (std::size_t v = 0; v < vertices; ++v) L.first[v + 1] += L.first[v];
   L.entry.resize(L.first[vertices]);
+  L.entry_node.assign(L.first[vertices], 0u);
   std::vector<std::uint32_t> fill(L.first.begin(), L.first.end() - 1);
   for (std::size_t j = 0; j < P; ++j)
     for (int q = 0; q < 8; ++q)
@@ -329,13 +330,31 @@ void block_lattice_forces(std::size_t begin, std::size_t end, const CellForceInp
   }
 }
 
+void refresh_block_entries(std::size_t vbegin, std::size_t vend, BlockLattice& L) {
+  for (std::size_t e = L.first[vbegin]; e < L.first[vend]; ++e) L.entry_node[e] = L.corner_node[L.entry[e]];
+}
+
+// A vertex's entries mostly name one node (all of them until a split there), so a run of
+// entries with the same node is summed in registers and stored once: the same additions in
+// the same order as one read-modify-write per entry, without each waiting on the last's store.
 void gather_block_lattice_forces(std::size_t vbegin, std::size_t vend, const BlockLattice& L, const ForceOutputs& out) {
   const FlushSubnormals flush;
-  for (std::size_t e = L.first[vbegin]; e < L.first[vend]; ++e) {
-    const std::uint32_t at = L.entry[e], node = L.corner_node[at];
-    out.fx[node] += L.fx[at];
-    out.fy[node] += L.fy[at];
-    out.fz[node] += L.fz[at];
+  const std::uint32_t* entry = L.entry.data();
+  const std::uint32_t* node = L.entry_node.data();
+  const float *cx = L.fx.data(), *cy = L.fy.data(), *cz = L.fz.data();
+  const std::size_t end = L.first[vend];
+  for (std::size_t e = L.first[vbegin]; e < end;) {
+    const std::uint32_t n = node[e];
+    float sx = out.fx[n], sy = out.fy[n], sz = out.fz[n];
+    do {
+      const std::uint32_t at = entry[e];
+      sx += cx[at];
+      sy += cy[at];
+      sz += cz[at];
+    } while (++e < end && node[e] == n);
+    out.fx[n] = sx;
+    out.fy[n] = sy;
+    out.fz[n] = sz;
   }
 }
 

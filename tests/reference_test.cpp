@@ -386,8 +386,10 @@ LatticeComparison compare_block_lattice(const pt::World& w, pt::BlockLattice& L)
   for (std::size_t b = 0; b < L.lanes; b += pt::kBlockChunk)
     pt::refresh_block_lattice(b, std::min(L.lanes, b + pt::kBlockChunk), w.topo, w.blocks, L);
   pt::block_lattice_forces(0, L.lanes, in, L);
+  const std::size_t vertices = L.first.size() - 1;
+  for (std::size_t v = 0; v < vertices; v += 1000) pt::refresh_block_entries(v, std::min(vertices, v + 1000), L);
   Forces lattice(w.nodes.count);
-  pt::gather_block_lattice_forces(0, L.first.size() - 1, L, lattice.outputs());
+  pt::gather_block_lattice_forces(0, vertices, L, lattice.outputs());
 
   Forces springs(w.nodes.count);
   const pt::CoarseForceScratch per = add_coarse_forces(w, springs);
