@@ -4,6 +4,7 @@
 #include <cassert>
 #include <cstdint>
 #include <iterator>
+#include <numeric>
 #include <type_traits>
 
 #include "kernels/lanes.hpp"
@@ -121,7 +122,8 @@ inline void transpose_8x8(__m256 (&r)[8]) {
 }
 #endif
 
-// Copies the stage state of pack p's distinct corner nodes into its rows.
+// Copies the stage state of pack p's distinct corner nodes into its rows (columns 6 and 7,
+// which pass 1 loads but never uses, are left as they are).
 void fill_pack(const BlockLattice& L, std::size_t p, const CellForceInputs& in, PackState& state) {
   const std::uint32_t* nodes = L.pack_node.data() + p * kPackRows;
   for (std::size_t r = 0; r < L.pack_rows[p]; ++r) {
@@ -129,12 +131,12 @@ void fill_pack(const BlockLattice& L, std::size_t p, const CellForceInputs& in, 
     float* row = state[r];
     row[0] = in.px[n]; row[1] = in.py[n]; row[2] = in.pz[n];
     row[3] = in.vx[n]; row[4] = in.vy[n]; row[5] = in.vz[n];
-    row[6] = row[7] = 0.0f;
   }
 }
 
-// Pack p's distinct corner nodes and each block corner's row, in the order the corners come
-// (corner by corner, lane by lane), through a small open-addressing table.
+// Pack p's distinct corner nodes, found through a small open-addressing table, and each block
+// corner's row. The nodes are then sorted, so that filling the pack reads the state columns
+// in ascending order rather than in the order the corners come.
 void build_pack(BlockLattice& L, std::size_t p) {
   constexpr std::size_t kSlots = 2 * kPackRows;  // power of two, at most half full
   std::uint32_t key[kSlots];                     // node + 1; 0: empty
@@ -153,9 +155,23 @@ void build_pack(BlockLattice& L, std::size_t p) {
         row_of[h] = rows;
         nodes[rows++] = n;
       }
-      L.corner_row[q * P + j] = row_of[h];
+      L.corner_row[BlockLattice::row_at(j, q)] = row_of[h];
     }
   L.pack_rows[p] = rows;
+  std::uint16_t order[kPackRows], rank[kPackRows];
+  std::iota(order, order + rows, std::uint16_t(0));
+  std::sort(order, order + rows, [&](std::uint16_t a, std::uint16_t b) { return nodes[a] < nodes[b]; });
+  std::uint32_t sorted[kPackRows];
+  for (std::uint16_t r = 0; r < rows; ++r) {
+    rank[order[r]] = r;
+    sorted[r] = nodes[order[r]];
+  }
+  std::copy(sorted, sorted + rows, nodes);
+  for (std::size_t q = 0; q < 8; ++q)
+    for (std::size_t j = lo; j < hi; ++j) {
+      std::uint16_t& row = L.corner_row[BlockLattice::row_at(j, q)];
+      row = rank[row];
+    }
 }
 
 // W blocks' 28 springs on their 8 corners (the cell kernel's body with per-lane slot
@@ -166,7 +182,8 @@ struct BlockLanes {
   using T = lanes::Traits<V>;
   static constexpr std::size_t W = T::width;
 
-  // Corner q of lane l is row rows[q * stride + l] of the pack's state (x y z vx vy vz, 0, 0).
+  // Corner q of lane l is row rows[q * stride + l] of the pack's state (x y z vx vy vz, and two
+  // unused columns).
   static void load_corners(const std::uint16_t* rows, std::size_t stride, const PackState& state, V (&x)[8],
                            V (&y)[8], V (&z)[8], V (&u)[8], V (&v)[8], V (&w)[8]) {
 #if !defined(PAPERTEAR_NO_SIMD) && XSIMD_WITH_AVX2
@@ -196,7 +213,7 @@ struct BlockLanes {
   static void run(std::size_t j, const PackState& state, BlockLattice& L) {
     const std::size_t P = L.lanes;
     V x[8], y[8], z[8], u[8], v[8], w[8], fx[8], fy[8], fz[8];
-    load_corners(L.corner_row.data() + j, P, state, x, y, z, u, v, w);
+    load_corners(L.corner_row.data() + BlockLattice::row_at(j, 0), kBlockGroup, state, x, y, z, u, v, w);
     for (int q = 0; q < 8; ++q) fx[q] = fy[q] = fz[q] = T::broadcast(0.0f);
     const V one = T::broadcast(1.0f);
     // Fully unrolled, so that corner values and sums index registers, not a stack array.
@@ -323,6 +340,7 @@ void block_lattice_forces(std::size_t begin, std::size_t end, const CellForceInp
   const FlushSubnormals flush;
   constexpr std::size_t W = BlockLanes<BlockLane>::W;
   alignas(64) PackState state;
+  for (float* row : state) row[6] = row[7] = 0.0f;  // never used; set so that no load reads indeterminate values
   std::size_t packed = SIZE_MAX;
   for (std::size_t j = begin; j < end; j += W) {
     if (j / kPackLanes != packed) fill_pack(L, packed = j / kPackLanes, in, state);
