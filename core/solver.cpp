@@ -132,8 +132,9 @@ FineStrips fine_strips(const Topology& topo) {
 // All fine springs and pass 1 of the block lattice (which shares the first phase's region:
 // both read the stage state and they write disjoint outputs, node forces vs per-block
 // corner sums). The block sums still have to be gathered. `new_topology`: nodes may have been
-// split or blocks entered since the last call, so the block lattice is refreshed.
-void add_fine_and_block_forces(World& w, SolverScratch& scratch, const CellForceInputs& in,
+// split or blocks entered since the last call, so the block lattice is refreshed. Returns
+// whether it was (also when it had to be built), i.e. whether the gather's entries must be.
+bool add_fine_and_block_forces(World& w, SolverScratch& scratch, const CellForceInputs& in,
                                const ForceOutputs& out, bool new_topology) {
   BlockLattice& lattice = scratch.lattice;
   if (!lattice.matches(w.coarse)) {
@@ -148,6 +149,7 @@ void add_fine_and_block_forces(World& w, SolverScratch& scratch, const CellForce
         block_lattice_forces(b, e, in, lattice);
       });
   strips.run_odd(in, out);
+  return new_topology;
 }
 
 ForceOutputs force_outputs(World& w) { return {w.scratch.fx.data(), w.scratch.fy.data(), w.scratch.fz.data()}; }
@@ -165,17 +167,17 @@ std::size_t fused_node_end(const World& w) {
 // Nodes from splits (and the few original ones past the last multiple of 64) wait for all
 // gathers and are updated after the region. RK4 is per node, so the partition cannot change
 // its bits; `bad` holds per task the first node that blew up, in node order.
-// `new_topology`: pass 1 has just refreshed the block lattice, so each task first records its
+// `refreshed`: pass 1 has just refreshed the block lattice, so each task first records its
 // vertices' entry nodes for the gather.
 void stage_nodes(World& w, SolverScratch& scratch, const ForceOutputs& out, const StageParams& params,
-                 bool new_topology) {
+                 bool refreshed) {
   BlockLattice& lattice = scratch.lattice;
   const std::size_t vertices = std::size_t(w.topo.dims.vertices()), fused = fused_node_end(w);
   static_assert(kVertexChunk % 64 == 0, "vertex chunks start nodes at aligned ids");
   const std::size_t tasks = chunk_count(vertices, kVertexChunk);
   parallel_chunks(vertices, kVertexChunk, [&](std::size_t b, std::size_t e, std::size_t c) {
     if (lattice.lanes != 0) {
-      if (new_topology) refresh_block_entries(b, e, lattice);
+      if (refreshed) refresh_block_entries(b, e, lattice);
       gather_block_lattice_forces(b, e, lattice, out);
     }
     if (b < fused) scratch.bad[c] = rk4_stage(b, std::min(e, fused), params, w.nodes, w.scratch);
@@ -222,9 +224,9 @@ void integrate_step(World& w, SolverScratch& scratch) {
   constexpr double kStageTime[4] = {0.0, 0.5, 0.5, 1.0};
   for (int stage = 1; stage <= 4; ++stage) {
     if (indenter) apply_contact(w, *indenter, w.time + kStageTime[stage - 1] * w.dt);
-    const bool refresh = stage == 1 && new_topology;  // splits come between steps
-    add_fine_and_block_forces(w, scratch, in, out, refresh);
-    stage_nodes(w, scratch, out, stage_params(w, stage), refresh);
+    // Splits come between steps, so only the first stage may see a new topology.
+    const bool refreshed = add_fine_and_block_forces(w, scratch, in, out, stage == 1 && new_topology);
+    stage_nodes(w, scratch, out, stage_params(w, stage), refreshed);
   }
   for (std::uint32_t bad : scratch.bad)
     if (bad != kNone) report_blow_up(w, bad);

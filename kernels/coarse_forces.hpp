@@ -4,7 +4,8 @@
 // evaluated like a cell whose 28 slots have their own rest length, stiffness and damping.
 //   refresh (before pass 1 whenever fracture may have split nodes or entered blocks): per
 //     block corner the node that the corner's (cell, corner) names NOW, and per block
-//     whether it is still intact;
+//     whether it is still intact; then, per vertex, the node of each of its entries
+//     (refresh_block_entries), so that pass 2 reads them in order;
 //   pass 1, parallel over blocks (block_lattice_forces): loads each block's 8 corners once,
 //     runs its springs in slot order and writes one force sum per block corner (zero for a
 //     block a crack has entered). The corners come from a pack: per kPackLanes lanes, the
