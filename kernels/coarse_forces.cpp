@@ -3,8 +3,6 @@
 #include <algorithm>
 #include <cassert>
 #include <cstdint>
-#include <iterator>
-#include <numeric>
 #include <type_traits>
 
 #include "kernels/lanes.hpp"
@@ -134,44 +132,20 @@ void fill_pack(const BlockLattice& L, std::size_t p, const CellForceInputs& in, 
   }
 }
 
-// Pack p's distinct corner nodes, found through a small open-addressing table, and each block
-// corner's row. The nodes are then sorted, so that filling the pack reads the state columns
-// in ascending order rather than in the order the corners come.
+// Pack p's distinct corner nodes, in ascending order (so that filling the pack reads the
+// state columns in order), and each block corner's row among them.
 void build_pack(BlockLattice& L, std::size_t p) {
-  constexpr std::size_t kSlots = 2 * kPackRows;  // power of two, at most half full
-  std::uint32_t key[kSlots];                     // node + 1; 0: empty
-  std::uint16_t row_of[kSlots];
-  std::fill(std::begin(key), std::end(key), 0u);
   const std::size_t P = L.lanes, lo = p * kPackLanes, hi = std::min(P, lo + kPackLanes);
   std::uint32_t* nodes = L.pack_node.data() + p * kPackRows;
-  std::uint16_t rows = 0;
+  std::uint32_t* end = nodes;
+  for (std::size_t q = 0; q < 8; ++q) end = std::copy(&L.corner_node[q * P + lo], &L.corner_node[q * P + hi], end);
+  std::sort(nodes, end);
+  end = std::unique(nodes, end);
+  L.pack_rows[p] = std::uint16_t(end - nodes);
   for (std::size_t q = 0; q < 8; ++q)
-    for (std::size_t j = lo; j < hi; ++j) {
-      const std::uint32_t n = L.corner_node[q * P + j];
-      std::size_t h = (n * 2654435761u) & (kSlots - 1);
-      while (key[h] != 0 && key[h] != n + 1) h = (h + 1) & (kSlots - 1);
-      if (key[h] == 0) {
-        key[h] = n + 1;
-        row_of[h] = rows;
-        nodes[rows++] = n;
-      }
-      L.corner_row[BlockLattice::row_at(j, q)] = row_of[h];
-    }
-  L.pack_rows[p] = rows;
-  std::uint16_t order[kPackRows], rank[kPackRows];
-  std::iota(order, order + rows, std::uint16_t(0));
-  std::sort(order, order + rows, [&](std::uint16_t a, std::uint16_t b) { return nodes[a] < nodes[b]; });
-  std::uint32_t sorted[kPackRows];
-  for (std::uint16_t r = 0; r < rows; ++r) {
-    rank[order[r]] = r;
-    sorted[r] = nodes[order[r]];
-  }
-  std::copy(sorted, sorted + rows, nodes);
-  for (std::size_t q = 0; q < 8; ++q)
-    for (std::size_t j = lo; j < hi; ++j) {
-      std::uint16_t& row = L.corner_row[BlockLattice::row_at(j, q)];
-      row = rank[row];
-    }
+    for (std::size_t j = lo; j < hi; ++j)
+      L.corner_row[BlockLattice::row_at(j, q)] =
+          std::uint16_t(std::lower_bound(nodes, end, L.corner_node[q * P + j]) - nodes);
 }
 
 // W blocks' 28 springs on their 8 corners (the cell kernel's body with per-lane slot
