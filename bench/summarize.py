@@ -4,7 +4,8 @@ bench/README.md: medians per case, then the ratios papertear vs reference, 2 thr
 fracture pass vs step (on the quiet sheet, and while the default scene tears: the
 fracture/default case's share_of_step counter), and measured vs the machine floor from the
 probe cases; then the same step ratios as the step/paired cases measured them, pair by pair
-within each iteration.
+within each iteration; and what the probes themselves gain from a second thread, the
+ceiling for every 2 threads vs 1 ratio on the machine.
 
 The floor of one RK4 step is the larger of (both are also reported on their own)
   compute: evaluated_springs * 4 stages / (sqrt+div pairs per second), and
@@ -114,6 +115,13 @@ def growth_and_render(cases):
         if share is not None:
             out.append((f"fracture pass / RK4 step while the default scene tears (90x90x5), {t} threads",
                         share, "share"))
+    # What a second thread gives code that shares nothing (the probes do twice the work on 2
+    # threads): the ceiling for the thread-scaling ratios above, which on a VM can be well
+    # under 2 (a shared core, a lower clock with both cores busy, other tenants).
+    for probe, key in (("fma", "flops_per_s"), ("sqrt_div", "pairs_per_s"), ("triad", "bytes_per_s")):
+        one, two = counter(f"probe/{probe}/threads:1", key), counter(f"probe/{probe}/threads:2", key)
+        if one and two:
+            out.append((f"probe/{probe} ({key}): 2 threads / 1 thread", two / one, "thread scaling"))
     for state in ("intact", "torn"):
         one = cases.get(f"render/frame/{state}/90x90x5/threads:1", {}).get("seconds")
         two = cases.get(f"render/frame/{state}/90x90x5/threads:2", {}).get("seconds")
