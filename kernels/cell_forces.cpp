@@ -19,7 +19,8 @@ namespace {
 
 // The sweep's vector: 8 floats where AVX2 exists, else the widest the build has. AVX-512
 // builds take 8 too: a 16-lane unaligned load splits a cache line 15 times in 16, an 8-lane
-// one 7 in 16 (measured on AVX2 hardware only).
+// one 7 in 16, and on an AVX-512 Xeon 16 lanes made the kernel no faster and the torn step
+// slower (its dirty cells then go 16 at a time; bench/README.md, round 13).
 #if !defined(PAPERTEAR_NO_SIMD) && XSIMD_WITH_AVX2
 using RowLane = xsimd::batch<float, xsimd::avx2>;
 #else
