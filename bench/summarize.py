@@ -115,9 +115,10 @@ def growth_and_render(cases):
         if share is not None:
             out.append((f"fracture pass / RK4 step while the default scene tears (90x90x5), {t} threads",
                         share, "share"))
-    # What a second thread gives code that shares nothing (the probes do twice the work on 2
-    # threads): the ceiling for the thread-scaling ratios above, which on a VM can be well
-    # under 2 (a shared core, a lower clock with both cores busy, other tenants).
+    # What a second thread gives the probes (rates: FMA and sqrt+div share nothing between
+    # threads, the triad only the memory system): the ceiling for the thread-scaling ratios
+    # above, which on a VM can be well under 2 (a shared core, a lower clock with both cores
+    # busy, other tenants).
     for probe, key in (("fma", "flops_per_s"), ("sqrt_div", "pairs_per_s"), ("triad", "bytes_per_s")):
         one, two = counter(f"probe/{probe}/threads:1", key), counter(f"probe/{probe}/threads:2", key)
         if one and two:
