@@ -34,6 +34,7 @@ struct Lanes;
 template <>
 struct Lanes<float> {
   static constexpr int W = 1;
+  static constexpr bool kAvx2 = false;
   static float load(const float* p) { return *p; }
   static void store(float* p, float v) { *p = v; }
   static float sqrt(float v) { return std::sqrt(v); }
@@ -262,33 +263,65 @@ struct DirtyCells {
   using T = Lanes<V>;
   static constexpr int W = T::W;
 
-  // The cells cells[0..W) of the row (lanes from `valid` on repeat a cell and are not added).
-  static void run(const Row& r, const std::uint32_t* cells, int valid) {
+  // The corners' nodes and values, the stiffness factors and the 28 slots' counts of cells
+  // cells[0..W) of the row, lane l for cell l.
+  [[gnu::always_inline]] static inline void load(const Row& r, const std::uint32_t* cells, std::uint32_t (&node)[8][W],
+                                                 V (&corner)[8][6], V& s, V (&n)[kSpringsPerCell]) {
     const CellForceInputs& in = r.in;
     const float* src[6] = {in.px, in.py, in.pz, in.vx, in.vy, in.vz};
+#if !defined(PAPERTEAR_NO_SIMD) && XSIMD_WITH_AVX2
+    if constexpr (T::kAvx2) {
+      // Hardware gathers: the lanes' values written one by one to the stack and read back as
+      // vectors made every such read wait on eight stores it cannot forward from.
+      const __m256i cell = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(cells));
+      const __m256i first_corner = _mm256_slli_epi32(_mm256_add_epi32(cell, _mm256_set1_epi32(int(r.cell0))), 3);
+      const int* cell_nodes = reinterpret_cast<const int*>(in.cell_nodes);
+      s = _mm256_i32gather_ps(in.cell_scale + r.cell0, cell, 4);
+      for (int q = 0; q < 8; ++q) {
+        const __m256i nq = _mm256_i32gather_epi32(cell_nodes, _mm256_add_epi32(first_corner, _mm256_set1_epi32(q)), 4);
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(node[q]), nq);
+        for (int f = 0; f < 6; ++f) corner[q][f] = _mm256_i32gather_ps(src[f], nq, 4);
+      }
+      // A count is one byte: 4 bytes read at each (the table has 32 bytes of padding), the
+      // low one kept.
+      const __m256i low = _mm256_set1_epi32(0xff);
+      for (int k = 0; k < kSpringsPerCell; ++k) {
+        const int* run = reinterpret_cast<const int*>(in.fine->row_counts(r.cell0, k));
+        n[k] = _mm256_cvtepi32_ps(_mm256_and_si256(_mm256_i32gather_epi32(run, cell, 1), low));
+      }
+      return;
+    }
+#endif
     alignas(64) float value[6][8][W];
     alignas(64) float scale[W];
     alignas(64) float counts[kSpringsPerCell][W];
-    std::uint32_t node[8][W];
     for (int l = 0; l < W; ++l) {
       const std::size_t c = r.cell0 + cells[l];
       scale[l] = in.cell_scale[c];
-      for (int s = 0; s < kSpringsPerCell; ++s) counts[s][l] = float(in.fine->row_counts(r.cell0, s)[cells[l]]);
+      for (int k = 0; k < kSpringsPerCell; ++k) counts[k][l] = float(in.fine->row_counts(r.cell0, k)[cells[l]]);
       for (int q = 0; q < 8; ++q) {
         node[q][l] = in.cell_nodes[c * 8 + std::size_t(q)];
         for (int f = 0; f < 6; ++f) value[f][q][l] = src[f][node[q][l]];
       }
     }
-    V corner[8][6], sum[8][3];
-    for (int q = 0; q < 8; ++q) {
+    for (int q = 0; q < 8; ++q)
       for (int f = 0; f < 6; ++f) corner[q][f] = T::load(value[f][q]);
+    s = T::load(scale);
+    for (int k = 0; k < kSpringsPerCell; ++k) n[k] = T::load(counts[k]);
+  }
+
+  // The cells cells[0..W) of the row (lanes from `valid` on repeat a cell and are not added).
+  static void run(const Row& r, const std::uint32_t* cells, int valid) {
+    const CellForceInputs& in = r.in;
+    std::uint32_t node[8][W];
+    V corner[8][6], sum[8][3], s, n[kSpringsPerCell];
+    load(r, cells, node, corner, s, n);
+    for (int q = 0; q < 8; ++q)
       for (int f = 0; f < 3; ++f) sum[q][f] = V(0.0f);
-    }
-    const V s = T::load(scale);
     auto slot = [&]<int I>() __attribute__((always_inline)) {
       constexpr int a = kSpringSlots[std::size_t(I)].a, b = kSpringSlots[std::size_t(I)].b;
       V f[3];
-      spring_force<V, true>(corner[a], corner[b], T::load(counts[I]), s, V(in.table->stiffness[std::size_t(I)]),
+      spring_force<V, true>(corner[a], corner[b], n[I], s, V(in.table->stiffness[std::size_t(I)]),
                             V(in.table->damping[std::size_t(I)]), V(in.table->rest[std::size_t(I)]), f);
       for (int q = 0; q < 3; ++q) {
         sum[a][q] = sum[a][q] + f[q];
