@@ -17,14 +17,22 @@
 namespace papertear {
 namespace {
 
-// The sweep's vector: 8 floats where AVX2 exists, else the widest the build has. AVX-512
-// builds take 8 too: a 16-lane unaligned load splits a cache line 15 times in 16, an 8-lane
-// one 7 in 16, and on an AVX-512 Xeon 16 lanes made the kernel no faster and the torn step
-// slower (its dirty cells then go 16 at a time; bench/README.md, round 13).
+// The sweep's vector (RowLane) and the dirty cells' (DirtyLane): 8 floats where AVX2 exists,
+// else the widest the build has; AVX-512 builds sweep 16 at a time (define
+// PAPERTEAR_SWEEP8 for 8). On a Zen 5 EPYC the 16-lane sweep made the quiet step 0.93 of the
+// 8-lane one on 1 thread, 0.95 on 2; on an AVX-512 Xeon it measured +2 to +3 % in the
+// kernel, within that run's noise (bench/README.md, rounds 13 and 14). The dirty cells stay
+// at 8: 16 at a time pad more lanes and made the Xeon's torn step 9 % slower.
 #if !defined(PAPERTEAR_NO_SIMD) && XSIMD_WITH_AVX2
-using RowLane = xsimd::batch<float, xsimd::avx2>;
+using DirtyLane = xsimd::batch<float, xsimd::avx2>;
+#if XSIMD_WITH_AVX512F && !defined(PAPERTEAR_SWEEP8)
+using RowLane = xsimd::batch<float, xsimd::avx512f>;
+#else
+using RowLane = DirtyLane;
+#endif
 #else
 using RowLane = lanes::Wide;
+using DirtyLane = lanes::Wide;
 #endif
 
 // What the sweep does with its lane type V; the scalar instantiation (V = float) is one lane.
@@ -56,6 +64,11 @@ struct Lanes<xsimd::batch<float, A>> {
 #else
   static constexpr bool kAvx2 = false;
 #endif
+#if XSIMD_WITH_AVX512F
+  static constexpr bool kAvx512 = std::is_same_v<A, xsimd::avx512f>;
+#else
+  static constexpr bool kAvx512 = false;
+#endif
 
   static V load(const float* p) { return V::load_unaligned(p); }
   static void store(float* p, const V& v) { v.store_unaligned(p); }
@@ -65,6 +78,10 @@ struct Lanes<xsimd::batch<float, A>> {
 #if XSIMD_WITH_AVX2
     if constexpr (kAvx2)
       return _mm256_cvtepi32_ps(_mm256_cvtepu8_epi32(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(p))));
+#endif
+#if XSIMD_WITH_AVX512F
+    if constexpr (kAvx512)
+      return _mm512_cvtepi32_ps(_mm512_cvtepu8_epi32(_mm_loadu_si128(reinterpret_cast<const __m128i*>(p))));
 #endif
     alignas(64) float f[W];
     for (int l = 0; l < W; ++l) f[l] = float(p[l]);
@@ -82,6 +99,12 @@ struct Lanes<xsimd::batch<float, A>> {
     if constexpr (kAvx2) {
       const __m256i bytes = _mm256_cvtepu8_epi32(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(copies)));
       return _mm256_and_ps(v, _mm256_castsi256_ps(_mm256_cmpeq_epi32(bytes, _mm256_setzero_si256())));
+    }
+#endif
+#if XSIMD_WITH_AVX512F
+    if constexpr (kAvx512) {
+      const __m512i bytes = _mm512_cvtepu8_epi32(_mm_loadu_si128(reinterpret_cast<const __m128i*>(copies)));
+      return _mm512_maskz_mov_ps(_mm512_testn_epi32_mask(bytes, bytes), v);
     }
 #endif
     alignas(64) float keep[W];
@@ -355,7 +378,7 @@ struct DirtyCells {
   }
 };
 
-template <class V>
+template <class V, class D>
 void rows_with(int j_begin, int j_end, const CellForceInputs& in, const ForceOutputs& out) {
   const FlushSubnormals flush;
   const LatticeDims& d = *in.dims;
@@ -369,7 +392,7 @@ void rows_with(int j_begin, int j_end, const CellForceInputs& in, const ForceOut
       for (std::size_t c0 = 0; c0 < std::size_t(d.nx); c0 += kRowChunk) {
         const std::size_t c1 = std::min(std::size_t(d.nx), c0 + kRowChunk);
         sweep_slots<V>(std::make_integer_sequence<int, kSpringsPerCell>{}, r, c0, c1, along);
-        if (r.plan.copies) DirtyCells<V>::run_chunk(r, c0, c1);
+        if (r.plan.copies) DirtyCells<D>::run_chunk(r, c0, c1);
       }
     }
 }
@@ -385,11 +408,11 @@ FlushSubnormals::~FlushSubnormals() = default;
 #endif
 
 void add_cell_row_forces(int j_begin, int j_end, const CellForceInputs& in, const ForceOutputs& out) {
-  rows_with<RowLane>(j_begin, j_end, in, out);
+  rows_with<RowLane, DirtyLane>(j_begin, j_end, in, out);
 }
 
 void add_cell_row_forces_scalar(int j_begin, int j_end, const CellForceInputs& in, const ForceOutputs& out) {
-  rows_with<float>(j_begin, j_end, in, out);
+  rows_with<float, float>(j_begin, j_end, in, out);
 }
 
 }  // namespace papertear
