@@ -53,9 +53,10 @@ SolverFootprint solver_footprint(const World& w) {
   // The solver's derived tables, built here as the solver builds them.
   FineSprings fine;
   build_fine_springs(w.topo, w.springs, fine);
-  const double fine_bytes = double(fine.count.size()) + double(fine.shared_counts.size()) +
-                            double(fine.owned.size()) * 4 + double(fine.copies.size()) +
-                            double(fine.rows.size() * sizeof(FineRow));
+  double fine_bytes = double(fine.count.size()) + double(fine.shared_counts.size()) +
+                      double(fine.owned.size()) * 4 + double(fine.copies.size()) +
+                      double(fine.rows.size() * (sizeof(FineRow) + sizeof(fine.dirty[0])));
+  for (const auto& groups : fine.dirty) fine_bytes += double(groups.size() * sizeof(DirtyGroup));
   BlockLattice lattice;
   build_block_lattice(w.coarse, w.blocks, w.topo.dims, lattice);
   const double lattice_bytes =

@@ -46,6 +46,7 @@ bool sync_fine_springs(const World& w, SolverScratch& scratch) {
   } else if (changed) {
     for (std::size_t e = scratch.fine_events; e < w.events.size(); ++e)
       update_fine_springs_at(w.topo, w.springs, w.nodes.vertex[w.events[e].node], scratch.fine);
+    plan_stale_dirty_cells(w.topo, scratch.fine);
   }
   scratch.fine_topology = w.topo.cell_nodes.data();
   scratch.fine_nodes = w.nodes.count;

@@ -1,6 +1,7 @@
 #include "kernels/cell_forces.hpp"
 
 #include <algorithm>
+#include <cassert>
 #include <type_traits>
 #include <utility>
 
@@ -121,6 +122,7 @@ struct Row {
   const FineRow& plan;
   std::size_t cell0;         // the row's first cell, (0, j, k)
   std::size_t vertex[2][2];  // the first vertex of the rows of vertices (j + dy, k + dz) its cells touch
+  const std::vector<DirtyGroup>* dirty;  // its cells with split copies among their corners
 };
 
 // The edges along x (both ends on one row of vertices, where a node can be the a end of one
@@ -274,71 +276,52 @@ void sweep_slots(std::integer_sequence<int, S...>, const Row& r, std::size_t c0,
 }
 
 // The cells of a chunk with split copies among their corners ("dirty" cells), after the
-// slots' passes: W of them at a time, each with its 8 corners' nodes fetched one by one and
-// all 28 slots run (counts of 0 add exact zeros) into a sum per corner, which is then added
-// to the corner's node, cell by cell and corner by corner. A dirty cell's terms thus come in
-// the order of the cells, whatever W is. Why not patch the copies into the slots' vectors:
-// a copy then had to be fetched and its term added once per slot, and the lanes' tests and
+// slots' passes: W of them at a time (the row's DirtyGroups, kernels/fine_springs.hpp, each
+// taken W lanes at a time), each with its 8 corners' values fetched by node and all 28 slots
+// run (counts of 0 add exact zeros) into a sum per corner, which is then added to the
+// corner's node, cell by cell and corner by corner. A dirty cell's terms thus come in the
+// order of the cells, whatever W is. Why not patch the copies into the slots' vectors: a
+// copy then had to be fetched and its term added once per slot, and the lanes' tests and
 // patches cost the torn sheet more than all its whole cells (a copy lies in ~35 % of the
 // vectors of the default scene at step 800).
 template <class V>
 struct DirtyCells {
   using T = Lanes<V>;
   static constexpr int W = T::W;
+  static_assert(DirtyGroup::kLanes % W == 0, "a group is a whole number of vectors");
 
-  // The corners' nodes and values, the stiffness factors and the 28 slots' counts of cells
-  // cells[0..W) of the row, lane l for cell l.
-  [[gnu::always_inline]] static inline void load(const Row& r, const std::uint32_t* cells, std::uint32_t (&node)[8][W],
-                                                 V (&corner)[8][6], V& s, V (&n)[kSpringsPerCell]) {
+  // Lanes [l0, l0 + W) of group g: the corners' values, the stiffness factors and the 28
+  // slots' counts.
+  [[gnu::always_inline]] static inline void load(const Row& r, const DirtyGroup& g, int l0, V (&corner)[8][6], V& s,
+                                                 V (&n)[kSpringsPerCell]) {
     const CellForceInputs& in = r.in;
     const float* src[6] = {in.px, in.py, in.pz, in.vx, in.vy, in.vz};
+    s = T::load(g.scale + l0);
+    for (int k = 0; k < kSpringsPerCell; ++k) n[k] = T::counts(g.count[k] + l0);
 #if !defined(PAPERTEAR_NO_SIMD) && XSIMD_WITH_AVX2
     if constexpr (T::kAvx2) {
       // Hardware gathers: the lanes' values written one by one to the stack and read back as
       // vectors made every such read wait on eight stores it cannot forward from.
-      const __m256i cell = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(cells));
-      const __m256i first_corner = _mm256_slli_epi32(_mm256_add_epi32(cell, _mm256_set1_epi32(int(r.cell0))), 3);
-      const int* cell_nodes = reinterpret_cast<const int*>(in.cell_nodes);
-      s = _mm256_i32gather_ps(in.cell_scale + r.cell0, cell, 4);
       for (int q = 0; q < 8; ++q) {
-        const __m256i nq = _mm256_i32gather_epi32(cell_nodes, _mm256_add_epi32(first_corner, _mm256_set1_epi32(q)), 4);
-        _mm256_storeu_si256(reinterpret_cast<__m256i*>(node[q]), nq);
+        const __m256i nq = _mm256_load_si256(reinterpret_cast<const __m256i*>(g.node[q]));
         for (int f = 0; f < 6; ++f) corner[q][f] = _mm256_i32gather_ps(src[f], nq, 4);
-      }
-      // A count is one byte: 4 bytes read at each (the table has 32 bytes of padding), the
-      // low one kept.
-      const __m256i low = _mm256_set1_epi32(0xff);
-      for (int k = 0; k < kSpringsPerCell; ++k) {
-        const int* run = reinterpret_cast<const int*>(in.fine->row_counts(r.cell0, k));
-        n[k] = _mm256_cvtepi32_ps(_mm256_and_si256(_mm256_i32gather_epi32(run, cell, 1), low));
       }
       return;
     }
 #endif
     alignas(64) float value[6][8][W];
-    alignas(64) float scale[W];
-    alignas(64) float counts[kSpringsPerCell][W];
-    for (int l = 0; l < W; ++l) {
-      const std::size_t c = r.cell0 + cells[l];
-      scale[l] = in.cell_scale[c];
-      for (int k = 0; k < kSpringsPerCell; ++k) counts[k][l] = float(in.fine->row_counts(r.cell0, k)[cells[l]]);
-      for (int q = 0; q < 8; ++q) {
-        node[q][l] = in.cell_nodes[c * 8 + std::size_t(q)];
-        for (int f = 0; f < 6; ++f) value[f][q][l] = src[f][node[q][l]];
-      }
-    }
+    for (int l = 0; l < W; ++l)
+      for (int q = 0; q < 8; ++q)
+        for (int f = 0; f < 6; ++f) value[f][q][l] = src[f][g.node[q][l0 + l]];
     for (int q = 0; q < 8; ++q)
       for (int f = 0; f < 6; ++f) corner[q][f] = T::load(value[f][q]);
-    s = T::load(scale);
-    for (int k = 0; k < kSpringsPerCell; ++k) n[k] = T::load(counts[k]);
   }
 
-  // The cells cells[0..W) of the row (lanes from `valid` on repeat a cell and are not added).
-  static void run(const Row& r, const std::uint32_t* cells, int valid) {
+  // Lanes [l0, l0 + W) of group g (lanes from g.valid on are not added).
+  static void run(const Row& r, const DirtyGroup& g, int l0) {
     const CellForceInputs& in = r.in;
-    std::uint32_t node[8][W];
     V corner[8][6], sum[8][3], s, n[kSpringsPerCell];
-    load(r, cells, node, corner, s, n);
+    load(r, g, l0, corner, s, n);
     for (int q = 0; q < 8; ++q)
       for (int f = 0; f < 3; ++f) sum[q][f] = V(0.0f);
     auto slot = [&]<int I>() __attribute__((always_inline)) {
@@ -358,23 +341,18 @@ struct DirtyCells {
     for (int q = 0; q < 8; ++q)
       for (int f = 0; f < 3; ++f) T::store(out[f][q], sum[q][f]);
     float* dst[3] = {r.out.fx, r.out.fy, r.out.fz};
+    const int valid = std::min(W, int(g.valid) - l0);
     for (int l = 0; l < valid; ++l)
       for (int q = 0; q < 8; ++q)
-        for (int f = 0; f < 3; ++f) dst[f][node[q][l]] += out[f][q][l];
+        for (int f = 0; f < 3; ++f) dst[f][g.node[q][l0 + l]] += out[f][q][l];
   }
 
-  // The dirty cells of cells [c0, c1) of the row, in order.
-  static void run_chunk(const Row& r, std::size_t c0, std::size_t c1) {
-    const std::uint8_t* copies = r.in.fine->copies.data() + r.cell0;
-    std::uint32_t cells[kRowChunk + W];
-    int n = 0;
-    for (std::size_t c = c0; c < c1; ++c)
-      if (copies[c] != 0) cells[n++] = std::uint32_t(c);
-    for (int first = 0; first < n; first += W) {
-      const int valid = std::min(W, n - first);
-      for (int l = valid; l < W; ++l) cells[first + l] = cells[first];  // computed, not added
-      run(r, cells + first, valid);
-    }
+  // The dirty cells of the row's chunk starting at cell c0, in order.
+  static void run_chunk(const Row& r, std::size_t c0) {
+    const std::uint32_t chunk = std::uint32_t(c0 / kRowChunk);
+    for (const DirtyGroup& g : *r.dirty)
+      if (g.chunk == chunk)
+        for (int l0 = 0; l0 < int(g.valid); l0 += W) run(r, g, l0);
   }
 };
 
@@ -385,14 +363,18 @@ void rows_with(int j_begin, int j_end, const CellForceInputs& in, const ForceOut
   AlongRow along;
   for (int j = j_begin; j < j_end; ++j)
     for (int k = 0; k < d.nl; ++k) {
-      const Row r{in, out, in.fine->rows[std::size_t(k) * std::size_t(d.ny) + std::size_t(j)],
+      const std::size_t row = std::size_t(k) * std::size_t(d.ny) + std::size_t(j);
+      const Row r{in,
+                  out,
+                  in.fine->rows[row],
                   d.cell_index(0, j, k),
                   {{d.vertex_index(0, j, k), d.vertex_index(0, j, k + 1)},
-                   {d.vertex_index(0, j + 1, k), d.vertex_index(0, j + 1, k + 1)}}};
+                   {d.vertex_index(0, j + 1, k), d.vertex_index(0, j + 1, k + 1)}},
+                  &in.fine->dirty[row]};
       for (std::size_t c0 = 0; c0 < std::size_t(d.nx); c0 += kRowChunk) {
         const std::size_t c1 = std::min(std::size_t(d.nx), c0 + kRowChunk);
         sweep_slots<V>(std::make_integer_sequence<int, kSpringsPerCell>{}, r, c0, c1, along);
-        if (r.plan.copies) DirtyCells<D>::run_chunk(r, c0, c1);
+        if (!r.dirty->empty()) DirtyCells<D>::run_chunk(r, c0);
       }
     }
 }
@@ -408,10 +390,12 @@ FlushSubnormals::~FlushSubnormals() = default;
 #endif
 
 void add_cell_row_forces(int j_begin, int j_end, const CellForceInputs& in, const ForceOutputs& out) {
+  assert(in.fine->stale_rows.empty() && "plan_stale_dirty_cells first");
   rows_with<RowLane, DirtyLane>(j_begin, j_end, in, out);
 }
 
 void add_cell_row_forces_scalar(int j_begin, int j_end, const CellForceInputs& in, const ForceOutputs& out) {
+  assert(in.fine->stale_rows.empty() && "plan_stale_dirty_cells first");
   rows_with<float, float>(j_begin, j_end, in, out);
 }
 

@@ -78,10 +78,6 @@ struct ForceOutputs {
   float *fx, *fy, *fz;
 };
 
-// Cells per chunk of a row: a fixed number (a multiple of every vector width), so that the
-// order of a node's terms depends on the lattice alone.
-inline constexpr std::size_t kRowChunk = 256;
-
 // Adds the forces of the springs that the cells of rows (j, k), j in [j_begin, j_end) and
 // every k, own into out, row by row (j, then k). Calls whose rows share no row of vertices
 // may run in parallel; a node's terms come in the order of the calls, then of the rows.

@@ -176,6 +176,37 @@ std::int8_t shared_row_of(const LatticeDims& d, std::size_t r, const FineSprings
   return same ? std::int8_t(kind) : std::int8_t(-1);
 }
 
+// Row r's dirty groups, from the cells' copies, counts and corners (assigned already).
+void plan_dirty_cells(const Topology& topo, std::size_t r, FineSprings& out) {
+  std::vector<DirtyGroup>& groups = out.dirty[r];
+  groups.clear();
+  if (!out.rows[r].copies) return;  // rows are widened only, so this flag is never missing
+  const std::size_t nx = std::size_t(topo.dims.nx), first = r * nx;
+  constexpr int kLanes = DirtyGroup::kLanes;
+  for (std::size_t c0 = 0; c0 < nx; c0 += kRowChunk) {
+    std::size_t cells[kLanes];
+    int n = 0;
+    auto flush = [&] {
+      DirtyGroup& g = groups.emplace_back();
+      g.chunk = std::uint32_t(c0 / kRowChunk);
+      g.valid = std::uint32_t(n);
+      for (int l = 0; l < kLanes; ++l) {
+        const std::size_t c = first + cells[l < n ? l : 0];
+        g.scale[l] = topo.cell_scale[c];
+        for (int q = 0; q < kCornersPerCell; ++q) g.node[q][l] = topo.cell_nodes[c * kCornersPerCell + std::size_t(q)];
+        for (int k = 0; k < kSpringsPerCell; ++k) g.count[k][l] = out.at(c, k);
+      }
+      n = 0;
+    };
+    for (std::size_t i = c0; i < std::min(nx, c0 + kRowChunk); ++i) {
+      if (out.copies[first + i] == 0) continue;
+      cells[n++] = i;
+      if (n == kLanes) flush();
+    }
+    if (n > 0) flush();
+  }
+}
+
 }  // namespace
 
 FineSpringsBuild prepare_fine_springs(const Topology& topo, const SpringTable& table, FineSprings& out) {
@@ -184,6 +215,8 @@ FineSpringsBuild prepare_fine_springs(const Topology& topo, const SpringTable& t
   out.owned.assign(out.cells + 32, 0);
   out.copies.assign(out.cells + 32, 0);
   out.rows.assign(std::size_t(d.ny) * std::size_t(d.nl), FineRow{});
+  out.dirty.assign(out.rows.size(), {});
+  out.stale_rows.clear();
   fill_shared_counts(d, out);
   // A vertex is whole while every cell around it still uses the vertex's own node.
   FineSpringsBuild build;
@@ -217,6 +250,7 @@ void plan_fine_rows(std::size_t row_begin, std::size_t row_end, const Topology& 
     const std::uint32_t first = std::uint32_t(r) * nx;  // cell (0, j, k) with r = k * ny + j
     for (std::uint32_t c = first; c < first + nx; ++c) widen_row(topo, c, out);
     out.rows[r].shared = shared_row_of(topo.dims, r, out);
+    plan_dirty_cells(topo, r, out);
   }
 }
 
@@ -224,8 +258,17 @@ void plan_all_fine_rows(const Topology& topo, FineSprings& out) {
   out.copies.assign(out.cells + 32, 0);
   for (std::uint32_t c = 0; c < out.cells; ++c) out.copies[c] = copy_corners(topo, c);
   out.rows.assign(std::size_t(topo.dims.ny) * std::size_t(topo.dims.nl), FineRow{});
+  out.dirty.assign(out.rows.size(), {});
+  out.stale_rows.clear();
   fill_shared_counts(topo.dims, out);
   plan_fine_rows(0, out.rows.size(), topo, out);
+}
+
+void plan_stale_dirty_cells(const Topology& topo, FineSprings& out) {
+  std::sort(out.stale_rows.begin(), out.stale_rows.end());
+  out.stale_rows.erase(std::unique(out.stale_rows.begin(), out.stale_rows.end()), out.stale_rows.end());
+  for (std::uint32_t r : out.stale_rows) plan_dirty_cells(topo, r, out);
+  out.stale_rows.clear();
 }
 
 void update_fine_springs_at(const Topology& topo, const SpringTable& table, std::uint32_t vertex, FineSprings& out) {
@@ -240,7 +283,9 @@ void update_fine_springs_at(const Topology& topo, const SpringTable& table, std:
         const std::uint32_t c = d.cell_index(i, j, k);
         assign_cell(topo, table, c, false, out);
         widen_row(topo, c, out);
-        out.rows[std::size_t(k) * std::size_t(d.ny) + std::size_t(j)].shared = -1;  // its counts may differ now
+        const std::size_t r = std::size_t(k) * std::size_t(d.ny) + std::size_t(j);
+        out.rows[r].shared = -1;  // its counts may differ now
+        out.stale_rows.push_back(std::uint32_t(r));
       }
 }
 

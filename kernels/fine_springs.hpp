@@ -47,6 +47,27 @@ inline constexpr std::uint32_t kAllSlots = (1u << kSpringsPerCell) - 1u;
 inline constexpr std::uint32_t kScaledCell = 1u << 31;  // in FineSprings::owned
 inline constexpr std::uint32_t kSplitCorner = 1u << 30; // ditto: a corner's node is a split copy
 
+// Cells per chunk of a row, for the spring kernel (kernels/cell_forces.hpp): a fixed number
+// (a multiple of every vector width), so that the order of a node's terms depends on the
+// lattice alone.
+inline constexpr std::size_t kRowChunk = 256;
+
+// Up to 8 cells of one chunk of a row that have split copies among their corners ("dirty"
+// cells, which the kernel evaluates cell by cell after the chunk's slot passes), laid out as
+// the kernel loads them: lane l is the group's l-th cell. What it holds changes only with
+// splits, so it is planned with the row, not fetched cell by cell in every evaluation (each
+// dirty cell's corners and 28 counts lay in 36 places of the tables). Lanes from `valid` on
+// repeat lane 0: computed, not added.
+struct DirtyGroup {
+  static constexpr int kLanes = 8;
+  alignas(32) std::uint32_t node[kCornersPerCell][kLanes] = {};  // corner q's node
+  alignas(32) float scale[kLanes] = {};                          // the cell's stiffness factor
+  alignas(32) std::uint8_t count[kSpringsPerCell][kLanes] = {};  // as FineSprings::count
+  std::uint32_t chunk = 0;  // the row's chunk: cells [chunk * kRowChunk, (chunk + 1) * kRowChunk)
+  std::uint32_t valid = 0;
+  bool operator==(const DirtyGroup&) const = default;
+};
+
 // What the kernel (kernels/cell_forces.hpp) needs to know of one row of cells (j, k):
 // per slot, the cells [lo, hi) of the row (by i) among which that slot's owners lie (lo ==
 // hi: none), and whether any cell of the row has a stiffness factor other than 1 or a corner
@@ -91,6 +112,12 @@ struct FineSprings {
   // are left 0.
   static constexpr int kRowKinds = 16;
   AlignedArray<std::uint8_t> shared_counts{12};
+  // Per row of cells (as `rows`): its dirty cells in order, in groups of up to 8 within a
+  // chunk; empty for a row without split copies. update_fine_springs_at lists the rows it
+  // touched in stale_rows, and plan_stale_dirty_cells plans them again: the kernel must not
+  // run while stale_rows is not empty.
+  std::vector<std::vector<DirtyGroup>> dirty;
+  std::vector<std::uint32_t> stale_rows;
 
   // Sizes `count` for `cells` cells in rows of `row_cells`, every count `value`.
   void resize_counts(std::size_t cell_count, std::size_t cells_per_row, std::uint8_t value) {
@@ -131,11 +158,14 @@ void assign_fine_springs(std::size_t begin, std::size_t end, const Topology& top
                          const FineSpringsBuild& build, FineSprings& out);
 // The same for the cells around lattice vertex `vertex` only: enough after a node there
 // was split, since every spring whose coincidence the split can change ends at that vertex.
-// Their rows' ranges and flags are widened to cover them.
+// Their rows' ranges and flags are widened to cover them, and the rows listed as stale
+// (their dirty groups are planned by plan_stale_dirty_cells).
 void update_fine_springs_at(const Topology& topo, const SpringTable& table, std::uint32_t vertex, FineSprings& out);
-// The rows [row_begin, row_end) of `out.rows`, from the cells' owned slots and copies, once
-// every cell has been assigned (rows may be planned in parallel). build_fine_springs plans
-// every row.
+// Plans the dirty groups of the rows update_fine_springs_at has touched since the last call.
+void plan_stale_dirty_cells(const Topology& topo, FineSprings& out);
+// The rows [row_begin, row_end) of `out.rows` and `out.dirty`, from the cells' owned slots,
+// copies and corners, once every cell has been assigned (rows may be planned in parallel).
+// build_fine_springs plans every row.
 void plan_fine_rows(std::size_t row_begin, std::size_t row_end, const Topology& topo, FineSprings& out);
 // Every cell's `copies`, from the topology, and every row: what a table made by hand (counts
 // and owned slots only) needs before the kernel can use it.

@@ -118,8 +118,8 @@ std::size_t require_kernel_counts(const pt::World& w, const pt::FineSprings& fin
 }
 
 // Every owner of a slot lies within its row's range, and the row's flags are set where a
-// cell has a split copy or a stiffness factor; the copies bytes are exact; the counts the
-// kernel reads are the row's own.
+// cell has a split copy or a stiffness factor; the copies bytes and the dirty cells' groups
+// are exact; the counts the kernel reads are the row's own.
 void require_rows_cover(const pt::World& w, const pt::FineSprings& got) {
   pt::FineSprings fresh = got;
   pt::plan_all_fine_rows(w.topo, fresh);
@@ -134,6 +134,12 @@ void require_rows_cover(const pt::World& w, const pt::FineSprings& got) {
   CHECK(uncovered == 0);
   CHECK(wrong_flags == 0);
   CHECK(got.copies == fresh.copies);
+  // The dirty cells' groups as the kernel reads them: the same cells, corners and counts as
+  // planned from scratch (stale ones would feed the kernel nodes from before a split).
+  CHECK(got.stale_rows.empty());
+  std::size_t stale_groups = 0;
+  for (std::size_t r = 0; r < got.rows.size(); ++r) stale_groups += got.dirty[r] == fresh.dirty[r] ? 0 : 1;
+  CHECK(stale_groups == 0);
   require_kernel_counts(w, got);
 }
 
@@ -167,6 +173,8 @@ TEST_CASE("split nodes give each side its own springs, updated where the split w
     REQUIRE(pt::split_node(w, pt::NodeId(vertex), i % 2, 1).valid());
     pt::update_fine_springs_at(w.topo, w.springs, vertex, fine);
   }
+  CHECK(!fine.stale_rows.empty());
+  pt::plan_stale_dirty_cells(w.topo, fine);
   require_same(w, fine, brute_force(w));
   require_rows_cover(w, fine);
   // The rows around the splits read their own counts, the others still the shared ones.
@@ -213,6 +221,9 @@ TEST_CASE("the solver keeps the kernel's plan of each row in step with a tearing
   const std::size_t rows_with_copies = std::size_t(
       std::count_if(solver.fine.rows.begin(), solver.fine.rows.end(), [](const pt::FineRow& r) { return r.copies; }));
   CHECK(rows_with_copies > 0);
+  std::size_t dirty_groups = 0;
+  for (const auto& groups : solver.fine.dirty) dirty_groups += groups.size();
+  CHECK(dirty_groups >= rows_with_copies);  // every such row has some
 }
 
 TEST_CASE("merged springs pull as hard as every cell's own 28", "[fine]") {
