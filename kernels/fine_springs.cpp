@@ -207,6 +207,15 @@ void plan_dirty_cells(const Topology& topo, std::size_t r, FineSprings& out) {
   }
 }
 
+// Every row of cells unplanned (no ranges, flags or dirty groups; none stale), and the whole
+// sheet's shared counts filled, before the rows are planned.
+void reset_row_plans(const LatticeDims& d, FineSprings& out) {
+  out.rows.assign(std::size_t(d.ny) * std::size_t(d.nl), FineRow{});
+  out.dirty.assign(out.rows.size(), {});
+  out.stale_rows.clear();
+  fill_shared_counts(d, out);
+}
+
 }  // namespace
 
 FineSpringsBuild prepare_fine_springs(const Topology& topo, const SpringTable& table, FineSprings& out) {
@@ -214,10 +223,7 @@ FineSpringsBuild prepare_fine_springs(const Topology& topo, const SpringTable& t
   out.resize_counts(std::size_t(d.cells()), std::size_t(d.nx), 0);
   out.owned.assign(out.cells + 32, 0);
   out.copies.assign(out.cells + 32, 0);
-  out.rows.assign(std::size_t(d.ny) * std::size_t(d.nl), FineRow{});
-  out.dirty.assign(out.rows.size(), {});
-  out.stale_rows.clear();
-  fill_shared_counts(d, out);
+  reset_row_plans(d, out);
   // A vertex is whole while every cell around it still uses the vertex's own node.
   FineSpringsBuild build;
   build.whole_vertex.assign(std::size_t(d.vertices()), uniform_springs(topo, table) ? 1 : 0);
@@ -257,10 +263,7 @@ void plan_fine_rows(std::size_t row_begin, std::size_t row_end, const Topology& 
 void plan_all_fine_rows(const Topology& topo, FineSprings& out) {
   out.copies.assign(out.cells + 32, 0);
   for (std::uint32_t c = 0; c < out.cells; ++c) out.copies[c] = copy_corners(topo, c);
-  out.rows.assign(std::size_t(topo.dims.ny) * std::size_t(topo.dims.nl), FineRow{});
-  out.dirty.assign(out.rows.size(), {});
-  out.stale_rows.clear();
-  fill_shared_counts(topo.dims, out);
+  reset_row_plans(topo.dims, out);
   plan_fine_rows(0, out.rows.size(), topo, out);
 }
 
