@@ -21,8 +21,9 @@ namespace {
 // The sweep's vector (RowLane) and the dirty cells' (DirtyLane): 8 floats where AVX2 exists,
 // else the widest the build has; AVX-512 builds sweep 16 at a time (define
 // PAPERTEAR_SWEEP8 for 8). On a Zen 5 EPYC the 16-lane sweep made the quiet step 0.93 of the
-// 8-lane one on 1 thread, 0.95 on 2; on an AVX-512 Xeon it measured +2 to +3 % in the
-// kernel, within that run's noise (bench/README.md, rounds 13 and 14). The dirty cells stay
+// 8-lane one on 1 thread, 0.95 on 2, and on a Zen 4 EPYC (512-bit operations in two halves)
+// 8 lanes made it 1.13 and 1.07 of the 16-lane one; on an AVX-512 Xeon it measured +2 to +3 %
+// in the kernel, within that run's noise (bench/README.md, rounds 13 to 15). The dirty cells stay
 // at 8: 16 at a time pad more lanes and made the Xeon's torn step 9 % slower.
 #if !defined(PAPERTEAR_NO_SIMD) && XSIMD_WITH_AVX2
 using DirtyLane = xsimd::batch<float, xsimd::avx2>;

@@ -120,6 +120,30 @@ inline void transpose_8x8(__m256 (&r)[8]) {
 }
 #endif
 
+#if !defined(PAPERTEAR_NO_SIMD) && XSIMD_WITH_AVX512F
+// transpose_8x8 in each 256-bit half: r[i] holds row i in its low half and row i + 8 in its
+// high half; afterwards r[f] holds value f of rows 0-7 low and of rows 8-15 high.
+inline void transpose_8x8_halves(__m512 (&r)[8]) {
+  __m512 t[8], s[8];
+  for (int i = 0; i < 8; i += 2) {
+    t[i] = _mm512_unpacklo_ps(r[i], r[i + 1]);
+    t[i + 1] = _mm512_unpackhi_ps(r[i], r[i + 1]);
+  }
+  for (int i = 0; i < 8; i += 4)
+    for (int h = 0; h < 2; ++h) {
+      s[i + 2 * h] = _mm512_shuffle_ps(t[i + h], t[i + h + 2], 0x44);
+      s[i + 2 * h + 1] = _mm512_shuffle_ps(t[i + h], t[i + h + 2], 0xEE);
+    }
+  // permute2f128's 0x20 and 0x31 in each half: the low (high) 128 bits of a, then of b.
+  const __m512i lows = _mm512_setr_epi32(0, 1, 2, 3, 16, 17, 18, 19, 8, 9, 10, 11, 24, 25, 26, 27);
+  const __m512i highs = _mm512_setr_epi32(4, 5, 6, 7, 20, 21, 22, 23, 12, 13, 14, 15, 28, 29, 30, 31);
+  for (int i = 0; i < 4; ++i) {
+    r[i] = _mm512_permutex2var_ps(s[i], lows, s[i + 4]);
+    r[i + 4] = _mm512_permutex2var_ps(s[i], highs, s[i + 4]);
+  }
+}
+#endif
+
 // Copies the stage state of pack p's distinct corner nodes into its rows (columns 6 and 7,
 // which pass 1 loads but never uses, are left as they are).
 void fill_pack(const BlockLattice& L, std::size_t p, const CellForceInputs& in, PackState& state) {
@@ -167,6 +191,20 @@ struct BlockLanes {
         __m256 r[8];
         for (std::size_t l = 0; l < 8; ++l) r[l] = _mm256_load_ps(state[rows[q * stride + l]]);
         transpose_8x8(r);
+        x[q] = r[0]; y[q] = r[1]; z[q] = r[2]; u[q] = r[3]; v[q] = r[4]; w[q] = r[5];
+      }
+      return;
+    }
+#endif
+#if !defined(PAPERTEAR_NO_SIMD) && XSIMD_WITH_AVX512F
+    // Rows l and l + 8 share a register, one per 256-bit half, for the transpose above.
+    if constexpr (std::is_same_v<V, xsimd::batch<float, xsimd::avx512f>>) {
+      for (std::size_t q = 0; q < 8; ++q) {
+        __m512 r[8];
+        for (std::size_t l = 0; l < 8; ++l)
+          r[l] = _mm512_insertf32x8(_mm512_castps256_ps512(_mm256_load_ps(state[rows[q * stride + l]])),
+                                    _mm256_load_ps(state[rows[q * stride + l + 8]]), 1);
+        transpose_8x8_halves(r);
         x[q] = r[0]; y[q] = r[1]; z[q] = r[2]; u[q] = r[3]; v[q] = r[4]; w[q] = r[5];
       }
       return;
@@ -221,8 +259,13 @@ struct BlockLanes {
   }
 };
 
-// Eight blocks per vector where AVX2 exists, for the cell kernel's reason (registers).
-#if !defined(PAPERTEAR_NO_SIMD) && XSIMD_WITH_AVX2
+// One parameter group per vector (kBlockGroup): 16 blocks in AVX-512 builds, 8 where AVX2
+// exists. On a Zen 4 EPYC, whose AVX-512 runs in 256-bit halves, 16 made the quiet step 0.95
+// of the 8-lane one on 2 threads (bench/README.md, round 15): half the instructions per block
+// for the corner loads, parameter loads and stores, the same arithmetic per lane.
+#if !defined(PAPERTEAR_NO_SIMD) && XSIMD_WITH_AVX512F && !defined(PAPERTEAR_BLOCK8)
+using BlockLane = xsimd::batch<float, xsimd::avx512f>;
+#elif !defined(PAPERTEAR_NO_SIMD) && XSIMD_WITH_AVX2
 using BlockLane = xsimd::batch<float, xsimd::avx2>;
 #else
 using BlockLane = lanes::Wide;

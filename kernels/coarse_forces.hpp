@@ -11,7 +11,8 @@
 //     block a crack has entered). The corners come from a pack: per kPackLanes lanes, the
 //     stage state of the distinct nodes their corners name, copied into one row of 8 floats
 //     per node (x y z vx vy vz, 0, 0); a corner of 8 lanes is then 8 row loads and a
-//     transpose. Why: 6 hardware gathers per corner cost Zen 3 more than the pass's
+//     transpose (of 16 lanes in AVX-512 builds: 16 row loads into 8 registers, and the same
+//     transpose in each 256-bit half). Why: 6 hardware gathers per corner cost Zen 3 more than the pass's
 //     arithmetic (58 % of the pass's time, cache hits or not), and the pack reads each node
 //     once however many of its blocks' corners name it;
 //   pass 2, parallel over lattice vertices (gather_block_lattice_forces): each vertex adds
@@ -51,8 +52,14 @@ inline constexpr std::size_t kPackLanes = 64;
 inline constexpr std::size_t kPackRows = 8 * kPackLanes;
 static_assert(kPackLanes % kBlockLanes == 0, "a pack holds whole vectors");
 // Spring parameters are stored in groups of this many lanes, a group's 28 slots back to back:
-// one vector evaluation then reads 3 contiguous runs instead of 84 cache lines far apart.
+// one vector evaluation then reads 3 contiguous runs instead of 84 cache lines far apart. A
+// group is one vector of pass 1: 16 blocks in AVX-512 builds (define PAPERTEAR_BLOCK8 for 8),
+// else 8.
+#if !defined(PAPERTEAR_NO_SIMD) && defined(__AVX512F__) && !defined(PAPERTEAR_BLOCK8)
+inline constexpr std::size_t kBlockGroup = 16;
+#else
 inline constexpr std::size_t kBlockGroup = 8;
+#endif
 static_assert(kBlockLanes % kBlockGroup == 0, "lane padding holds whole groups");
 struct BlockLattice {
   std::size_t lanes = 0;                       // padded lane count
