@@ -259,12 +259,14 @@ struct BlockLanes {
   }
 };
 
-// One parameter group per vector (kBlockGroup): 16 blocks in AVX-512 builds, 8 where AVX2
-// exists. On a Zen 4 EPYC, whose AVX-512 runs in 256-bit halves, 16 made the quiet step 0.95
-// of the 8-lane one on 2 threads (bench/README.md, round 15): half the instructions per block
-// for the corner loads, parameter loads and stores, the same arithmetic per lane.
-#if !defined(PAPERTEAR_NO_SIMD) && XSIMD_WITH_AVX512F && !defined(PAPERTEAR_BLOCK8)
-using BlockLane = xsimd::batch<float, xsimd::avx512f>;
+// One parameter group per vector: kBlockGroup (coarse_forces.hpp, the one place the width is
+// chosen) is 16 blocks in AVX-512 builds, 8 where AVX2 exists. On a Zen 4 EPYC, whose AVX-512
+// runs in 256-bit halves, 16 made the quiet step 0.95 of the 8-lane one on 2 threads
+// (bench/README.md, round 15): half the instructions per block for the corner loads,
+// parameter loads and stores, the same arithmetic per lane.
+#if !defined(PAPERTEAR_NO_SIMD) && XSIMD_WITH_AVX512F
+using BlockLane =
+    std::conditional_t<kBlockGroup == 16, xsimd::batch<float, xsimd::avx512f>, xsimd::batch<float, xsimd::avx2>>;
 #elif !defined(PAPERTEAR_NO_SIMD) && XSIMD_WITH_AVX2
 using BlockLane = xsimd::batch<float, xsimd::avx2>;
 #else

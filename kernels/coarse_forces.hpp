@@ -12,9 +12,9 @@
 //     stage state of the distinct nodes their corners name, copied into one row of 8 floats
 //     per node (x y z vx vy vz, 0, 0); a corner of 8 lanes is then 8 row loads and a
 //     transpose (of 16 lanes in AVX-512 builds: 16 row loads into 8 registers, and the same
-//     transpose in each 256-bit half). Why: 6 hardware gathers per corner cost Zen 3 more than the pass's
-//     arithmetic (58 % of the pass's time, cache hits or not), and the pack reads each node
-//     once however many of its blocks' corners name it;
+//     transpose in each 256-bit half). Why: 6 hardware gathers per corner cost Zen 3 more
+//     than the pass's arithmetic (58 % of the pass's time, cache hits or not), and the pack
+//     reads each node once however many of its blocks' corners name it;
 //   pass 2, parallel over lattice vertices (gather_block_lattice_forces): each vertex adds
 //     the corner sums of the blocks with a corner there, in ascending block id, to the
 //     corner's node.
