@@ -105,7 +105,7 @@ TEST_CASE("the invariants hold after every fracture pass of a tearing run", "[fr
 // The detection's candidates by their plain definition (fracture/fracture_pass.hpp, step 1):
 // every edge of every cell, its strain against the weaker bond of its axis, in the formulas'
 // own float operations, in the pass's order.
-std::vector<FractureCandidate> plain_candidates(const World& w) {
+static std::vector<FractureCandidate> plain_candidates(const World& w) {
   std::vector<FractureCandidate> out;
   for (std::uint32_t c = 0; c < std::uint32_t(w.topo.dims.cells()); ++c)
     for (int s = 0; s < kEdgesPerCell; ++s) {
