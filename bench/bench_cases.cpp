@@ -5,6 +5,7 @@
 
 #include "core/simulation.hpp"
 #include "core/world.hpp"
+#include "fracture/metrics.hpp"
 #include "kernels/cell_forces.hpp"
 #include "kernels/coarse_forces.hpp"
 #include "kernels/fine_springs.hpp"
@@ -33,6 +34,18 @@ const World& default_scene_at(int step) {
     it = worlds.emplace(step, sim.world()).first;
   }
   return it->second;
+}
+
+const World& torn_render_sheet() {
+  static const World world = [] {
+    Scene scene;
+    scene.load.speed *= 4.0;
+    Simulation sim(scene);
+    for (int i = 0; i < 3000 && measure(sim.world()).pieces < 2; i += 50) sim.step(50);
+    sim.step(50);
+    return sim.world();
+  }();
+  return world;
 }
 
 Scene quiet_pull_scene(const Size& size) {

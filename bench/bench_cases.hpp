@@ -47,6 +47,12 @@ Scene quiet_pull_scene(const Size& size);
 // process and step (seconds each) and kept for the cases that start from it.
 const World& default_scene_at(int step);
 
+// The sheet of the torn render cases: the default scene pulled 4x faster, so that it comes
+// apart in two within a few hundred steps (seconds), and 50 steps more to move the pieces
+// apart a little; its mesh has the fibres and skins a torn frame of a real run has. Made
+// once per process and kept.
+const World& torn_render_sheet();
+
 // Registers a case that times itself (UseManualTime: the wall clock around its work only),
 // reported in `unit`; `args` follow the state in each call of `fn`.
 template <class Fn, class... Args>

@@ -5,13 +5,11 @@
 //   render/surface_kept/<state>/90x90x5/threads:<t>  the same into one mesh kept across
 //                                                 iterations, as a frame loop does
 //   render/frame/<state>/90x90x5/threads:<t>     Renderer::draw (mesh + Embree scene + trace)
-// The torn sheet is the default scene pulled 4x faster so it comes apart in a few hundred
-// untimed setup steps; its mesh has the fibres and skins a torn frame of a real run has.
+// The torn sheet is bench::torn_render_sheet() (bench_cases.hpp).
 #include <oneapi/tbb/task_arena.h>
 
 #include "bench_cases.hpp"
 #include "core/simulation.hpp"
-#include "fracture/metrics.hpp"
 #include "tools/render/render.hpp"
 
 namespace papertear::bench {
@@ -20,22 +18,13 @@ namespace {
 enum class SheetState { intact, torn };
 
 const World& sheet(SheetState state) {
-  // Built once per state and kept: the torn one takes seconds to tear.
-  static std::unique_ptr<Simulation> intact, torn;
-  std::unique_ptr<Simulation>& sim = state == SheetState::intact ? intact : torn;
-  if (!sim) {
-    Scene scene;  // the paper's experiment
-    if (state == SheetState::torn) {
-      scene.load.speed *= 4.0;
-      sim = std::make_unique<Simulation>(scene);
-      for (int i = 0; i < 3000 && measure(sim->world()).pieces < 2; i += 50) sim->step(50);
-      sim->step(50);  // let the pieces move apart a little
-    } else {
-      sim = std::make_unique<Simulation>(scene);
-      sim->step(10);
-    }
-  }
-  return sim->world();
+  if (state == SheetState::torn) return torn_render_sheet();
+  static const World intact = [] {
+    Simulation sim(Scene{});  // the paper's experiment
+    sim.step(10);
+    return sim.world();
+  }();
+  return intact;
 }
 
 void render_surface(benchmark::State& state, SheetState s, int threads, bool kept) {
