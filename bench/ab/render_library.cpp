@@ -1,8 +1,7 @@
 // One build's renderer behind a plain C interface, as step_library.cpp is for the step: built
-// into a shared object per build (bench/ab/run.sh with RENDER=1), so that render_ab can load
-// two builds into one process and draw the same frame with each in turn.
+// into a shared object per build (bench/ab/run.sh with RENDER=1), so that `step_ab … render`
+// can load two builds into one process and draw the same frame with each in turn.
 #include <chrono>
-#include <memory>
 
 #include <oneapi/tbb/task_arena.h>
 
