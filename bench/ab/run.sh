@@ -25,11 +25,13 @@ if [[ ! -d "$tree" ]]; then
   git -C "$root" worktree add --detach "$tree" "$rev" >/dev/null 2>&1
 fi
 
-# build_library SOURCE_TREE BUILD_DIR OUTPUT.so: the step's library, or with RENDER=1 the
-# renderer's.
+kind=step
+if [[ "${RENDER:-0}" == 1 ]]; then kind=render; fi
+
+# build_library SOURCE_TREE BUILD_DIR OUTPUT.so: the step's library, or the renderer's.
 build_library() {
   local tools=OFF target=papertear shim=step_library.cpp libs=("$2/libpapertear.a") extra=()
-  if [[ "${RENDER:-0}" == 1 ]]; then
+  if [[ $kind == render ]]; then
     tools=ON target=papertear_render shim=render_library.cpp
     libs=("$2/tools/render/libpapertear_render.a" "$2/tools/libpapertear_io.a" "$2/libpapertear.a")
     extra=(-I/usr/include/eigen3 -lembree3 -lpng -ltinygltf -ltomlplusplus)
@@ -40,8 +42,6 @@ build_library() {
   g++ -O2 -fPIC -shared -std=c++20 -march=native -ffp-contract=off -I"$1" -I"$2" "$root/bench/ab/$shim" \
     "$1/bench/bench_cases.cpp" "${libs[@]}" "${extra[@]}" -ltbb -lbenchmark -Wl,-Bsymbolic -o "$3"
 }
-kind=step
-if [[ "${RENDER:-0}" == 1 ]]; then kind=render; fi
 build_library "$tree" "$out/build-$rev" "$out/base-$kind.so"
 build_library "$root" "$out/build-head" "$out/head-$kind.so"
 g++ -O2 -std=c++20 "$root/bench/ab/step_ab.cpp" -ldl -o "$out/step_ab"
