@@ -87,19 +87,28 @@ StageParams stage_params(const World& w, int stage) {
 
 // Runs two independent chunked loops as one parallel region: one barrier instead of two.
 // Chunk boundaries are those each loop would have alone, so nothing depends on the thread
-// count.
+// count. The region's chunks are A's first half, B's first half, A's second half, B's second
+// half: TBB hands the first half of a range to the calling thread and the second to the
+// thread that steals it, so on 2 threads each takes about half of each loop, and with A the
+// strips, the same half of the sheet as in the regions before and after (see NodeBands).
 template <class BodyA, class BodyB>
 void parallel_chunks_pair(std::size_t na, std::size_t chunk_a, const BodyA& body_a, std::size_t nb,
                           std::size_t chunk_b, const BodyB& body_b) {
   const std::size_t ca = chunk_count(na, chunk_a), cb = chunk_count(nb, chunk_b);
+  const std::size_t ha = (ca + 1) / 2, hb = (cb + 1) / 2;
+  auto run_a = [&](std::size_t c) {
+    const std::size_t b = c * chunk_a;
+    body_a(b, std::min(b + chunk_a, na));
+  };
+  auto run_b = [&](std::size_t c) {
+    const std::size_t b = c * chunk_b;
+    body_b(b, std::min(b + chunk_b, nb));
+  };
   parallel_chunks(ca + cb, 1, [&](std::size_t c, std::size_t, std::size_t) {
-    if (c < ca) {
-      const std::size_t b = c * chunk_a;
-      body_a(b, std::min(b + chunk_a, na));
-    } else {
-      const std::size_t b = (c - ca) * chunk_b;
-      body_b(b, std::min(b + chunk_b, nb));
-    }
+    if (c < ha) run_a(c);
+    else if (c < ha + hb) run_b(c - ha);
+    else if (c < ca + hb) run_a(c - hb);
+    else run_b(c - ca);
   });
 }
 
@@ -162,29 +171,77 @@ std::size_t fused_node_end(const World& w) {
   return std::min(w.nodes.count, vertices / 64 * 64);
 }
 
+// The fused region's nodes by bands of vertex rows, one band per strip of fine springs: band s
+// holds, in every layer K, the vertices of rows [s * kStripRows, (s + 1) * kStripRows) (the
+// last band up to row ny), i.e. nl + 1 runs of node ids. Why bands and not chunks of ids: ids
+// run layer after layer, so a chunk of ids is a few rows of every strip, and the update of
+// nodes whose forces the other thread has just summed, and whose new state it will read in
+// the next stage's sweep, moves their cache lines between cores four times a stage. A band
+// is the nodes of one strip (TBB hands out both in the same order, so on 2 threads mostly
+// to the same thread). Run boundaries are rounded down to multiples of 64 ids, so updates
+// start aligned and two bands never write one cache line.
+struct NodeBands {
+  std::size_t bands = 0, vertices = 0, fused = 0;
+  std::size_t row_len = 0, layer_rows = 0;  // vertices per row, rows per layer
+  int layers = 0, ny = 0;
+
+  // First node of band s's run in layer K (s == bands: the next layer's first run).
+  std::size_t at(std::size_t s, int K) const {
+    const std::size_t row = s < bands ? s * std::size_t(kStripRows) : std::size_t(ny) + 1;
+    return std::min(fused, row_len * (row + layer_rows * std::size_t(K)) / 64 * 64);
+  }
+  // Calls run(begin, end, gather_end) for band s's runs: nodes [begin, end) are updated and
+  // vertices [begin, gather_end) gathered; the last run gathers up to the last vertex, whose
+  // nodes past `fused` the tail region updates.
+  template <class Run>
+  void for_each_run(std::size_t s, const Run& run) const {
+    for (int K = 0; K < layers; ++K) {
+      const std::size_t b = at(s, K), e = at(s + 1, K);
+      run(b, e, s + 1 == bands && K + 1 == layers ? vertices : e);
+    }
+  }
+};
+
+NodeBands node_bands(const World& w) {
+  const LatticeDims& d = w.topo.dims;
+  NodeBands nb;
+  nb.bands = fine_strips(w.topo).strips;
+  nb.vertices = std::size_t(d.vertices());
+  nb.fused = fused_node_end(w);
+  nb.row_len = std::size_t(d.nx) + 1;
+  nb.layer_rows = std::size_t(d.ny) + 1;
+  nb.layers = d.nl + 1;
+  nb.ny = d.ny;
+  return nb;
+}
+
 // Gathers the block sums and runs the RK4 node stage in one region. Node n < vertices sits
-// at vertex n (splits append new ids), so once a task has gathered vertices [b, e) the
-// nodes [b, e) have their whole force and it updates them at once, while they are in cache.
-// Nodes from splits (and the few original ones past the last multiple of 64) wait for all
-// gathers and are updated after the region. RK4 is per node, so the partition cannot change
-// its bits; `bad` holds per task the first node that blew up, in node order.
+// at vertex n (splits append new ids), so once a task has gathered a run of vertices the
+// nodes of that run have their whole force and it updates them at once, while they are in
+// cache. Nodes from splits (and the few original ones past the last multiple of 64) wait for
+// all gathers and are updated after the region. RK4 is per node and a vertex's gather sums
+// its entries in a fixed order, so the partition cannot change the bits; `bad` holds per
+// task the first node that blew up, in node order.
 // `refreshed`: pass 1 has just refreshed the block lattice, so each task first records its
 // vertices' entry nodes for the gather.
 void stage_nodes(World& w, SolverScratch& scratch, const ForceOutputs& out, const StageParams& params,
                  bool refreshed) {
   BlockLattice& lattice = scratch.lattice;
-  const std::size_t vertices = std::size_t(w.topo.dims.vertices()), fused = fused_node_end(w);
-  static_assert(kVertexChunk % 64 == 0, "vertex chunks start nodes at aligned ids");
-  const std::size_t tasks = chunk_count(vertices, kVertexChunk);
-  parallel_chunks(vertices, kVertexChunk, [&](std::size_t b, std::size_t e, std::size_t c) {
-    if (lattice.lanes != 0) {
-      if (refreshed) refresh_block_entries(b, e, lattice);
-      gather_block_lattice_forces(b, e, lattice, out);
-    }
-    if (b < fused) scratch.bad[c] = rk4_stage(b, std::min(e, fused), params, w.nodes, w.scratch);
+  const NodeBands bands = node_bands(w);
+  parallel_chunks(bands.bands, 1, [&](std::size_t s, std::size_t, std::size_t) {
+    std::uint32_t bad = kNone;
+    bands.for_each_run(s, [&](std::size_t b, std::size_t e, std::size_t gather_end) {
+      if (lattice.lanes != 0) {
+        if (refreshed) refresh_block_entries(b, gather_end, lattice);
+        gather_block_lattice_forces(b, gather_end, lattice, out);
+      }
+      if (b < e) bad = std::min(bad, rk4_stage(b, e, params, w.nodes, w.scratch));
+    });
+    scratch.bad[s] = bad;
   });
+  const std::size_t fused = bands.fused;
   parallel_chunks(w.nodes.count - fused, kNodeChunk, [&](std::size_t b, std::size_t e, std::size_t c) {
-    scratch.bad[tasks + c] = rk4_stage(fused + b, fused + e, params, w.nodes, w.scratch);
+    scratch.bad[bands.bands + c] = rk4_stage(fused + b, fused + e, params, w.nodes, w.scratch);
   });
 }
 
@@ -211,9 +268,7 @@ void evaluate_forces(World& w, SolverScratch& scratch) {
 
 void integrate_step(World& w, SolverScratch& scratch) {
   drive_grips(w);
-  const std::size_t vertices = std::size_t(w.topo.dims.vertices());
-  scratch.bad.assign(chunk_count(vertices, kVertexChunk) + chunk_count(w.nodes.count - fused_node_end(w), kNodeChunk),
-                     kNone);
+  scratch.bad.assign(fine_strips(w.topo).strips + chunk_count(w.nodes.count - fused_node_end(w), kNodeChunk), kNone);
   const bool new_topology = sync_fine_springs(w, scratch);
   const CellForceInputs in = stage_inputs(w, scratch);
   const ForceOutputs out = force_outputs(w);
@@ -229,8 +284,9 @@ void integrate_step(World& w, SolverScratch& scratch) {
     const bool refreshed = add_fine_and_block_forces(w, scratch, in, out, stage == 1 && new_topology);
     stage_nodes(w, scratch, out, stage_params(w, stage), refreshed);
   }
-  for (std::uint32_t bad : scratch.bad)
-    if (bad != kNone) report_blow_up(w, bad);
+  // The first node in id order (the bands' runs interleave across layers).
+  const std::uint32_t bad = scratch.bad.empty() ? kNone : *std::min_element(scratch.bad.begin(), scratch.bad.end());
+  if (bad != kNone) report_blow_up(w, bad);
   w.time += w.dt;
 }
 

@@ -12,8 +12,9 @@
 //                                        next (core/solver.cpp: the order each node gets)
 //      block lattice, pass 1             parallel over blocks, in the same region as the even
 //                                        strips: one force sum per block corner
-//   2. block lattice, pass 2             parallel over lattice vertices, each adding the corner
-//      + node update (kernels/rk4.hpp)   sums of its blocks in ascending block id
+//   2. block lattice, pass 2             parallel over bands of vertex rows (one per strip, all
+//      + node update (kernels/rk4.hpp)   layers), each vertex adding the corner sums of its
+//                                        blocks in ascending block id
 //                                        (kernels/coarse_forces.hpp), then updating the nodes
 //                                        whose id is that vertex; clears forces for the next stage
 //      node update of split nodes        after that region (nodes from splits sit anywhere)
@@ -38,7 +39,7 @@ namespace papertear {
 
 struct SolverScratch {
   BlockLattice lattice;  // built on first use, rebuilt when the block springs are
-  std::vector<std::uint32_t> bad;  // per node chunk: the first node that blew up
+  std::vector<std::uint32_t> bad;  // per band and node chunk: the first node that blew up
   // Built on first use; then, at the start of each step, updated around the nodes split
   // since (the world's split events), or rebuilt if the topology changed any other way.
   FineSprings fine;
@@ -49,7 +50,7 @@ struct SolverScratch {
 // Chunk sizes (elements per task). Fixed numbers, never derived from the thread count.
 inline constexpr std::size_t kCellChunk = 512;  // fracture detection, energies, the merged-spring table's build
 inline constexpr std::size_t kNodeChunk = 2048;
-inline constexpr std::size_t kVertexChunk = 2048;
+inline constexpr std::size_t kVertexChunk = 2048;  // evaluate_forces' gather
 inline constexpr std::size_t kBlockChunk = 256;  // block-lattice lanes
 // Fine springs: cell rows (values of j) per strip. Small enough that a strip's nodes stay in
 // cache while its rows are swept and that even a 90-row sheet gives each thread several strips.

@@ -281,6 +281,13 @@ void build_block_lattice(const CoarseSprings& sp, const std::vector<Block>& bloc
   std::vector<std::uint32_t> with_springs;
   for (std::uint32_t b = 0; b < blocks.size(); ++b)
     if (blocks[b].spring_count > 0) with_springs.push_back(b);
+  // Lanes by the block's first row of cells (then by id): block ids run layer band after
+  // layer band, and the solver hands out the lanes, the fine springs' strips and the node
+  // update's bands of rows in the same order (core/solver.cpp), so a thread's blocks are
+  // mostly in the rows whose nodes it updates and sweeps. The gather still adds a vertex's
+  // corner sums in block id order (below), so the lane order does not change any bits.
+  std::stable_sort(with_springs.begin(), with_springs.end(),
+                   [&](std::uint32_t a, std::uint32_t b) { return blocks[a].lo[1] < blocks[b].lo[1]; });
   const std::size_t P = (with_springs.size() + kBlockLanes - 1) / kBlockLanes * kBlockLanes;
   L.lanes = P;
   L.block.assign(P, UINT32_MAX);
@@ -312,7 +319,7 @@ void build_block_lattice(const CoarseSprings& sp, const std::vector<Block>& bloc
       used[std::size_t(sp.corner_a[i]) * P + j] = used[std::size_t(sp.corner_b[i]) * P + j] = 1;
     }
   }
-  // Per vertex, the used block corners in ascending lane order, which is ascending block id.
+  // Per vertex, the used block corners in ascending block id.
   const std::size_t vertices = std::size_t(d.vertices());
   L.first.assign(vertices + 1, 0);
   auto vertex_of = [&](std::size_t j, int q) {
@@ -332,6 +339,10 @@ void build_block_lattice(const CoarseSprings& sp, const std::vector<Block>& bloc
         const std::uint32_t v = vertex_of(j, q);
         L.entry[fill[v]++] = std::uint32_t(std::size_t(q) * P + j);
       }
+  // A block has one corner per vertex, so block ids order a vertex's entries strictly.
+  for (std::size_t v = 0; v < vertices; ++v)
+    std::sort(L.entry.begin() + L.first[v], L.entry.begin() + L.first[v + 1],
+              [&](std::uint32_t a, std::uint32_t b) { return L.block[a % P] < L.block[b % P]; });
   L.springs = sp.size();
   L.built_from = sp.cell_a.data();
 }

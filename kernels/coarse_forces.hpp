@@ -63,7 +63,7 @@ inline constexpr std::size_t kBlockGroup = 8;
 static_assert(kBlockLanes % kBlockGroup == 0, "lane padding holds whole groups");
 struct BlockLattice {
   std::size_t lanes = 0;                       // padded lane count
-  std::vector<std::uint32_t> block;            // per lane: block id, or UINT32_MAX (padding)
+  std::vector<std::uint32_t> block;            // per lane: block id (lanes by row), or UINT32_MAX (padding)
   AlignedArray<std::uint32_t> corner_slot{0};  // [corner * lanes + lane]: cell * 8 + corner
   // Refreshed state: [corner * lanes + lane] the node at corner_slot, and per lane 1 for an
   // intact block, 0 for an entered one or padding.
@@ -78,7 +78,7 @@ struct BlockLattice {
   AlignedArray<float> rest{1}, stiffness{2}, damping{3};  // at param_at(lane, slot); absent: 0
   AlignedArray<float> fx{4}, fy{5}, fz{6};     // pass 1 output: [corner * lanes + lane]
   std::vector<std::uint32_t> first;            // per vertex + 1: offsets into entry
-  std::vector<std::uint32_t> entry;            // corner * lanes + lane, ascending lane per vertex
+  std::vector<std::uint32_t> entry;            // corner * lanes + lane, ascending block id per vertex
   // Per entry, the node its block corner names (corner_node[entry]), recorded by
   // refresh_block_entries: the gather then reads nodes in order instead of one cache miss
   // into corner_node per entry (41 % of the gather's time).
