@@ -1,6 +1,7 @@
 #include "core/solver.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cassert>
 #include <limits>
 #include <sstream>
@@ -90,7 +91,7 @@ StageParams stage_params(const World& w, int stage) {
 // count. The region's chunks are A's first half, B's first half, A's second half, B's second
 // half: TBB hands the first half of a range to the calling thread and the second to the
 // thread that steals it, so on 2 threads each takes about half of each loop, and with A the
-// strips, the same half of the sheet as in the regions before and after (see NodeBands).
+// strips, the same half of the sheet in both regions. (The step itself runs StageGraph.)
 template <class BodyA, class BodyB>
 void parallel_chunks_pair(std::size_t na, std::size_t chunk_a, const BodyA& body_a, std::size_t nb,
                           std::size_t chunk_b, const BodyB& body_b) {
@@ -164,84 +165,153 @@ bool add_fine_and_block_forces(World& w, SolverScratch& scratch, const CellForce
 
 ForceOutputs force_outputs(World& w) { return {w.scratch.fx.data(), w.scratch.fy.data(), w.scratch.fz.data()}; }
 
-// Nodes below this id are updated in the gather's region (see stage_nodes); a multiple of
-// every vector width, so the rest starts aligned.
-std::size_t fused_node_end(const World& w) {
-  const std::size_t vertices = std::size_t(w.topo.dims.vertices());
-  return std::min(w.nodes.count, vertices / 64 * 64);
-}
-
-// The fused region's nodes by bands of vertex rows, one band per strip of fine springs: band s
-// holds, in every layer K, the vertices of rows [s * kStripRows, (s + 1) * kStripRows) (the
-// last band up to row ny), i.e. nl + 1 runs of node ids. Why bands and not chunks of ids: ids
-// run layer after layer, so a chunk of ids is a few rows of every strip, and the update of
-// nodes whose forces the other thread has just summed, and whose new state it will read in
-// the next stage's sweep, moves their cache lines between cores four times a stage. A band
-// is the nodes of one strip (TBB hands out both in the same order, so on 2 threads mostly
-// to the same thread). Run boundaries are rounded down to multiples of 64 ids, so updates
-// start aligned and two bands never write one cache line.
-struct NodeBands {
-  std::size_t bands = 0, vertices = 0, fused = 0;
-  std::size_t row_len = 0, layer_rows = 0;  // vertices per row, rows per layer
+// One stage's forces and node update as a graph of tasks (kernels/parallel.hpp):
+//   even strip 2t, block chunk c   no predecessors
+//   odd strip 2t + 1               after the even strips 2t and 2t + 2 (a node on the row
+//                                  between two strips gets the even strip's terms first)
+//   band s                         after the strips s - 1 and s, whose cells touch its rows,
+//                                  and every block chunk with a corner in its rows (the gather
+//                                  needs their corner sums, and their pass must read the stage
+//                                  state before the band overwrites it)
+// Band s is the vertex rows [s * kStripRows, (s + 1) * kStripRows) (the last band up to row
+// ny) in every layer: nl + 1 runs of node ids. Node n < vertices sits at vertex n (splits
+// append new ids), so once a band has gathered its vertices' block sums, their original
+// nodes have their whole force, and the band updates them at once, while they are in cache.
+// Why bands and not chunks of ids: ids run layer after layer, so a chunk of ids holds rows of
+// every strip, and about half of the nodes would be summed on one core and updated on the
+// other (bench/README.md, rounds 19 and 20). The thread that makes a task ready runs it next
+// unless the other takes it, so a band mostly runs where its strips just ran. Every node's
+// force is the same terms in the same order as with one parallel region per pass, and the
+// update is per node, so nothing depends on the thread count or on when a task runs.
+// Nodes from splits sit anywhere in the sheet; they are updated after the graph.
+struct StageGraph {
+  FineStrips strips;
+  std::size_t even = 0, blocks = 0, odd = 0, bands = 0;  // task counts, in task id order
+  std::size_t row_len = 0, layer_rows = 0;                // vertices per row, rows per layer
   int layers = 0, ny = 0;
+  std::vector<std::uint32_t> band_waits;  // per band: its predecessors
+  std::vector<std::size_t> roots;         // the even strips and block chunks, in spawn order
 
-  // First node of band s's run in layer K (s == bands: the next layer's first run).
+  std::size_t tasks() const { return even + blocks + odd + bands; }
+  std::size_t band_of_row(std::uint32_t row) const { return std::min(std::size_t(row) / kStripRows, bands - 1); }
+  // First node id of band s's run in layer K (s == bands: the next layer's first). Inside a
+  // layer rounded down to a multiple of 16, so that the update's vector loads are aligned
+  // and two bands share no cache line of a column: band s then also holds the last few
+  // vertices of row s * kStripRows - 1, which only strip s - 1 and blocks with a corner on
+  // that row touch. Not when a row is shorter than 16 vertices (the rounding would reach
+  // back further than one row), and never at a layer's start, which belongs to band 0.
   std::size_t at(std::size_t s, int K) const {
-    const std::size_t row = s < bands ? s * std::size_t(kStripRows) : std::size_t(ny) + 1;
-    return std::min(fused, row_len * (row + layer_rows * std::size_t(K)) / 64 * 64);
+    if (s == bands) return row_len * layer_rows * std::size_t(K + 1);
+    const std::size_t id = row_len * (layer_rows * std::size_t(K) + s * std::size_t(kStripRows));
+    return s > 0 && row_len >= 16 ? id / 16 * 16 : id;
   }
-  // Calls run(begin, end, gather_end) for band s's runs: nodes [begin, end) are updated and
-  // vertices [begin, gather_end) gathered; the last run gathers up to the last vertex, whose
-  // nodes past `fused` the tail region updates.
-  template <class Run>
-  void for_each_run(std::size_t s, const Run& run) const {
-    for (int K = 0; K < layers; ++K) {
-      const std::size_t b = at(s, K), e = at(s + 1, K);
-      run(b, e, s + 1 == bands && K + 1 == layers ? vertices : e);
-    }
+  // Node ids [first, second) of band s in layer K.
+  std::pair<std::size_t, std::size_t> run(std::size_t s, int K) const { return {at(s, K), at(s + 1, K)}; }
+  void reset(std::vector<std::atomic<std::uint32_t>>& waits) const {
+    for (std::size_t t = 0; t < even + blocks; ++t) waits[t].store(0, std::memory_order_relaxed);
+    for (std::size_t t = 0; t < odd; ++t)
+      waits[even + blocks + t].store(2 * t + 2 < strips.strips ? 2 : 1, std::memory_order_relaxed);
+    for (std::size_t s = 0; s < bands; ++s)
+      waits[even + blocks + odd + s].store(band_waits[s], std::memory_order_relaxed);
   }
 };
 
-NodeBands node_bands(const World& w) {
-  const LatticeDims& d = w.topo.dims;
-  NodeBands nb;
-  nb.bands = fine_strips(w.topo).strips;
-  nb.vertices = std::size_t(d.vertices());
-  nb.fused = fused_node_end(w);
-  nb.row_len = std::size_t(d.nx) + 1;
-  nb.layer_rows = std::size_t(d.ny) + 1;
-  nb.layers = d.nl + 1;
-  nb.ny = d.ny;
-  return nb;
+// Per block chunk, the first and last band that holds a corner of its blocks (lanes run by
+// the blocks' first row, so these are a few bands; a corner on the row before a band's
+// first may be in that band, see StageGraph::at); recomputed when the lattice is rebuilt.
+void plan_block_chunk_bands(const World& w, const StageGraph& g, SolverScratch& scratch) {
+  const BlockLattice& L = scratch.lattice;
+  if (scratch.chunk_bands_for == L.built_from && scratch.chunk_bands_lanes == L.lanes &&
+      scratch.chunk_bands_count == g.bands)
+    return;
+  scratch.chunk_bands.assign(chunk_count(L.lanes, kBlockChunk), {std::uint32_t(g.bands - 1), 0u});
+  for (std::size_t lane = 0; lane < L.lanes; ++lane) {
+    if (L.block[lane] == UINT32_MAX) continue;
+    const Block& blk = w.blocks[L.block[lane]];  // corners on vertex rows lo[1] and hi[1]
+    auto& [first, last] = scratch.chunk_bands[lane / kBlockChunk];
+    first = std::min(first, std::uint32_t(g.band_of_row(std::uint32_t(blk.lo[1]))));
+    last = std::max(last, std::uint32_t(g.band_of_row(std::uint32_t(std::min(blk.hi[1] + 1, g.ny)))));
+  }
+  scratch.chunk_bands_for = L.built_from;
+  scratch.chunk_bands_lanes = L.lanes;
+  scratch.chunk_bands_count = g.bands;
 }
 
-// Gathers the block sums and runs the RK4 node stage in one region. Node n < vertices sits
-// at vertex n (splits append new ids), so once a task has gathered a run of vertices the
-// nodes of that run have their whole force and it updates them at once, while they are in
-// cache. Nodes from splits (and the few original ones past the last multiple of 64) wait for
-// all gathers and are updated after the region. RK4 is per node and a vertex's gather sums
-// its entries in a fixed order, so the partition cannot change the bits; `bad` holds per
-// task the first node that blew up, in node order.
-// `refreshed`: pass 1 has just refreshed the block lattice, so each task first records its
-// vertices' entry nodes for the gather.
-void stage_nodes(World& w, SolverScratch& scratch, const ForceOutputs& out, const StageParams& params,
-                 bool refreshed) {
+StageGraph stage_graph(const World& w, SolverScratch& scratch) {
+  const LatticeDims& d = w.topo.dims;
+  StageGraph g;
+  g.strips = fine_strips(w.topo);
+  g.even = g.strips.even_strips();
+  g.odd = g.strips.odd_strips();
+  g.blocks = chunk_count(scratch.lattice.lanes, kBlockChunk);
+  g.bands = g.strips.strips;
+  g.row_len = std::size_t(d.nx) + 1;
+  g.layer_rows = std::size_t(d.ny) + 1;
+  g.layers = d.nl + 1;
+  g.ny = d.ny;
+  plan_block_chunk_bands(w, g, scratch);
+  g.band_waits.assign(g.bands, 0);
+  for (std::size_t s = 0; s < g.bands; ++s) g.band_waits[s] = s > 0 ? 2 : 1;
+  for (const auto& [first, last] : scratch.chunk_bands)
+    for (std::size_t s = first; s <= last; ++s) ++g.band_waits[s];
+  // The first half of the even strips and of the block chunks, then the second halves: the
+  // calling thread spawns them and runs the newest first, an idle thread takes the oldest,
+  // so each takes about one half of the sheet, the same half every stage.
+  const std::size_t he = (g.even + 1) / 2, hb = (g.blocks + 1) / 2;
+  for (std::size_t t = 0; t < he; ++t) g.roots.push_back(t);
+  for (std::size_t c = 0; c < hb; ++c) g.roots.push_back(g.even + c);
+  for (std::size_t t = he; t < g.even; ++t) g.roots.push_back(t);
+  for (std::size_t c = hb; c < g.blocks; ++c) g.roots.push_back(g.even + c);
+  return g;
+}
+
+// Runs one stage's graph, then the update of the split nodes. `refresh`: nodes may have been
+// split or blocks entered since the last stage, so the block chunks refresh their lanes and
+// the bands their vertices' entry nodes. scratch.bad gets per band and per chunk of split
+// nodes the first node that blew up.
+void run_stage(World& w, SolverScratch& scratch, const StageGraph& g, std::vector<std::atomic<std::uint32_t>>& waits,
+               const CellForceInputs& in, const ForceOutputs& out, const StageParams& params, bool refresh) {
   BlockLattice& lattice = scratch.lattice;
-  const NodeBands bands = node_bands(w);
-  parallel_chunks(bands.bands, 1, [&](std::size_t s, std::size_t, std::size_t) {
-    std::uint32_t bad = kNone;
-    bands.for_each_run(s, [&](std::size_t b, std::size_t e, std::size_t gather_end) {
-      if (lattice.lanes != 0) {
-        if (refreshed) refresh_block_entries(b, gather_end, lattice);
-        gather_block_lattice_forces(b, gather_end, lattice, out);
+  g.reset(waits);
+  const std::size_t odd0 = g.even + g.blocks, band0 = odd0 + g.odd;
+  run_task_graph(g.tasks(), g.roots, waits.data(), [&](std::size_t t, const auto& release) {
+    auto release_band = [&](std::size_t s) {
+      if (s < g.bands) release(band0 + s);
+    };
+    if (t < g.even) {
+      g.strips.run(2 * t, in, out);
+      if (t > 0) release(odd0 + t - 1);
+      if (t < g.odd) release(odd0 + t);
+      release_band(2 * t);
+      release_band(2 * t + 1);
+    } else if (t < odd0) {
+      const std::size_t c = t - g.even, b = c * kBlockChunk, e = std::min(lattice.lanes, b + kBlockChunk);
+      if (refresh) refresh_block_lattice(b, e, w.topo, w.blocks, lattice);
+      block_lattice_forces(b, e, in, lattice);
+      const auto [first, last] = scratch.chunk_bands[c];
+      for (std::size_t s = first; s <= last; ++s) release_band(s);
+    } else if (t < band0) {
+      const std::size_t strip = 2 * (t - odd0) + 1;
+      g.strips.run(strip, in, out);
+      release_band(strip);
+      release_band(strip + 1);
+    } else {
+      const std::size_t s = t - band0;
+      std::uint32_t bad = kNone;
+      for (int K = 0; K < g.layers; ++K) {
+        const auto [b, e] = g.run(s, K);
+        if (lattice.lanes != 0) {
+          if (refresh) refresh_block_entries(b, e, lattice);
+          gather_block_lattice_forces(b, e, lattice, out);
+        }
+        bad = std::min(bad, rk4_stage(b, e, params, w.nodes, w.scratch));
       }
-      if (b < e) bad = std::min(bad, rk4_stage(b, e, params, w.nodes, w.scratch));
-    });
-    scratch.bad[s] = bad;
+      scratch.bad[s] = bad;
+    }
   });
-  const std::size_t fused = bands.fused;
-  parallel_chunks(w.nodes.count - fused, kNodeChunk, [&](std::size_t b, std::size_t e, std::size_t c) {
-    scratch.bad[bands.bands + c] = rk4_stage(fused + b, fused + e, params, w.nodes, w.scratch);
+  const std::size_t split0 = std::size_t(w.topo.dims.vertices());
+  parallel_chunks(w.nodes.count - split0, kNodeChunk, [&](std::size_t b, std::size_t e, std::size_t c) {
+    scratch.bad[g.bands + c] = rk4_stage(split0 + b, split0 + e, params, w.nodes, w.scratch);
   });
 }
 
@@ -268,21 +338,25 @@ void evaluate_forces(World& w, SolverScratch& scratch) {
 
 void integrate_step(World& w, SolverScratch& scratch) {
   drive_grips(w);
-  scratch.bad.assign(fine_strips(w.topo).strips + chunk_count(w.nodes.count - fused_node_end(w), kNodeChunk), kNone);
   const bool new_topology = sync_fine_springs(w, scratch);
+  BlockLattice& lattice = scratch.lattice;
+  const bool rebuilt = !lattice.matches(w.coarse);
+  if (rebuilt) build_block_lattice(w.coarse, w.blocks, w.topo.dims, lattice);
+  const StageGraph graph = stage_graph(w, scratch);
+  std::vector<std::atomic<std::uint32_t>> waits(graph.tasks());
+  scratch.bad.assign(graph.bands + chunk_count(w.nodes.count - std::size_t(w.topo.dims.vertices()), kNodeChunk), kNone);
   const CellForceInputs in = stage_inputs(w, scratch);
   const ForceOutputs out = force_outputs(w);
   // The indenter (pierce only) is where it is at each stage's time: t, t + dt/2 twice, t + dt.
   // Its push goes in first, while the force columns are still zero (the previous stage's
-  // RK4 update cleared them): the springs then add to it, and the fused gather + RK4 region
-  // sees every force a node gets.
+  // RK4 update cleared them): the springs then add to it, and the bands see every force a
+  // node gets.
   const std::optional<Indenter> indenter = make_indenter(w);
   constexpr double kStageTime[4] = {0.0, 0.5, 0.5, 1.0};
   for (int stage = 1; stage <= 4; ++stage) {
     if (indenter) apply_contact(w, *indenter, w.time + kStageTime[stage - 1] * w.dt);
     // Splits come between steps, so only the first stage may see a new topology.
-    const bool refreshed = add_fine_and_block_forces(w, scratch, in, out, stage == 1 && new_topology);
-    stage_nodes(w, scratch, out, stage_params(w, stage), refreshed);
+    run_stage(w, scratch, graph, waits, in, out, stage_params(w, stage), stage == 1 && (new_topology || rebuilt));
   }
   // The first node in id order (the bands' runs interleave across layers).
   const std::uint32_t bad = scratch.bad.empty() ? kNone : *std::min_element(scratch.bad.begin(), scratch.bad.end());

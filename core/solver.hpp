@@ -3,31 +3,33 @@
 // Before stage 1 the merged-spring table (kernels/fine_springs.hpp: which cell evaluates
 // which coincident fine springs, and the plan of each row of cells the spring kernel sweeps)
 // is brought up to date with the splits since the last step.
-// Per stage, in this order (each line is one or more parallel regions; kernels/parallel.hpp
+// Per stage, as one graph of tasks (core/solver.cpp, StageGraph; kernels/parallel.hpp
 // explains why the result does not depend on the thread count):
 //   1. fine springs, by strips of rows   a task takes a strip of kStripRows values of j and
 //                                        sweeps its rows of cells (j, then k) slot by slot
 //                                        (kernels/cell_forces.hpp) while its nodes are in
-//                                        cache; even strips in one region, odd strips in the
-//                                        next (core/solver.cpp: the order each node gets)
-//      block lattice, pass 1             parallel over blocks, in the same region as the even
-//                                        strips: one force sum per block corner
-//   2. block lattice, pass 2             parallel over bands of vertex rows (one per strip, all
-//      + node update (kernels/rk4.hpp)   layers), each vertex adding the corner sums of its
+//                                        cache; an odd strip after its two even neighbours
+//                                        (core/solver.cpp: the order each node gets)
+//      block lattice, pass 1             by chunks of blocks, alongside the even strips: one
+//                                        force sum per block corner
+//   2. block lattice, pass 2             by bands of vertex rows (one per strip, all layers),
+//      + node update (kernels/rk4.hpp)   a band after the strips and block chunks that touch
+//                                        its rows: each vertex adds the corner sums of its
 //                                        blocks in ascending block id
-//                                        (kernels/coarse_forces.hpp), then updating the nodes
-//                                        whose id is that vertex; clears forces for the next stage
-//      node update of split nodes        after that region (nodes from splits sit anywhere)
-// That is 3 parallel regions per stage. Each node's fine-spring force is its terms in the
-// kernel's order (strips, rows, chunks, slots), then its blocks' corner sums in block order,
-// whatever the thread count.
-// Under a pierce load the indenter's contact force (core/contact.hpp) is added after step 2,
-// parallel over nodes. Gripped nodes get their prescribed velocity before stage 1. After stage 4 the step checks
+//                                        (kernels/coarse_forces.hpp), then the nodes whose id
+//                                        is that vertex are updated; clears forces for the next stage
+//      node update of split nodes        after the graph (nodes from splits sit anywhere)
+// That is one graph and one parallel region per stage. Each node's fine-spring force is its
+// terms in the kernel's order (strips, rows, chunks, slots), then its blocks' corner sums in
+// block order, whatever the thread count.
+// Under a pierce load the indenter's contact force (core/contact.hpp) is added at the start
+// of each stage, parallel over nodes. Gripped nodes get their prescribed velocity before stage 1. After stage 4 the step checks
 // for a blow-up (non-finite or runaway state) and throws BlowUpError naming the step and node.
 // Fracture (fracture/fracture_pass.hpp) runs after the step, serially.
 #pragma once
 #include <array>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "core/world.hpp"
@@ -45,6 +47,11 @@ struct SolverScratch {
   FineSprings fine;
   const std::uint32_t* fine_topology = nullptr;  // the cell table it was built for
   std::size_t fine_nodes = 0, fine_events = 0;   // node and event counts it has seen
+  // Per chunk of block lanes, the first and last band of vertex rows its corners lie in
+  // (core/solver.cpp), and the lattice and band count they were found for.
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> chunk_bands;
+  const std::uint32_t* chunk_bands_for = nullptr;
+  std::size_t chunk_bands_lanes = 0, chunk_bands_count = 0;
 };
 
 // Chunk sizes (elements per task). Fixed numbers, never derived from the thread count.

@@ -8,13 +8,20 @@
 #include <cstddef>
 #include <vector>
 
+#include <atomic>
+#include <cstdint>
+
 #include <oneapi/tbb/blocked_range.h>
 #include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/partitioner.h>
+#include <oneapi/tbb/task_arena.h>
+#include <oneapi/tbb/task_group.h>
 
 #ifdef PAPERTEAR_STD_THREAD_BACKEND
 #include <algorithm>
-#include <atomic>
+#include <condition_variable>
+#include <deque>
+#include <mutex>
 #include <thread>
 
 #include <oneapi/tbb/task_arena.h>
@@ -62,6 +69,80 @@ void parallel_chunks(std::size_t n, std::size_t chunk, const Body& body) {
         }
       },
       tbb::simple_partitioner());
+#endif
+}
+
+// Runs a graph of tasks 0..n-1, each once: first the tasks listed in `roots` (those whose
+// count in `waits` is 0), in that order, then every other task u as soon as its predecessors
+// have between them called release(u) waits[u] times. body(t, release) runs task t and, as
+// it ends, calls release(u) for each of t's successors. The thread whose release brings a
+// count to 0 queues that task on its own deque, so it runs it next unless an idle thread
+// takes it first. Returns when all n tasks have run; the counts are then all 0. The results
+// do not depend on the thread count as long as no two tasks that may run at the same time
+// (neither a predecessor of the other) write what the other reads or writes.
+template <class Body>
+void run_task_graph(std::size_t n, const std::vector<std::size_t>& roots, std::atomic<std::uint32_t>* waits,
+                    const Body& body) {
+  if (n == 0) return;
+  if (tbb::this_task_arena::max_concurrency() == 1) {
+    // One thread: no tasks to spawn; a ready task runs next, as a thread's own tasks do below.
+    std::vector<std::size_t> ready(roots.rbegin(), roots.rend());
+    auto release = [&](std::size_t u) {
+      if (waits[u].fetch_sub(1, std::memory_order_relaxed) == 1) ready.push_back(u);
+    };
+    while (!ready.empty()) {
+      const std::size_t t = ready.back();
+      ready.pop_back();
+      body(t, release);
+    }
+    return;
+  }
+#ifdef PAPERTEAR_STD_THREAD_BACKEND
+  // See parallel_chunks: std::threads that TSan can follow, taking ready tasks from a queue.
+  std::mutex m;
+  std::condition_variable cv;
+  std::deque<std::size_t> ready(roots.begin(), roots.end());
+  std::size_t done = 0;
+  auto release = [&](std::size_t u) {
+    if (waits[u].fetch_sub(1, std::memory_order_acq_rel) != 1) return;
+    std::lock_guard<std::mutex> lock(m);
+    ready.push_back(u);
+    cv.notify_one();
+  };
+  auto drain = [&] {
+    std::unique_lock<std::mutex> lock(m);
+    for (;;) {
+      cv.wait(lock, [&] { return !ready.empty() || done == n; });
+      if (ready.empty()) return;
+      const std::size_t t = ready.front();
+      ready.pop_front();
+      lock.unlock();
+      body(t, release);
+      lock.lock();
+      if (++done == n) cv.notify_all();
+    }
+  };
+  const std::size_t workers = std::min<std::size_t>(n, std::size_t(tbb::this_task_arena::max_concurrency()));
+  std::vector<std::thread> helpers;
+  for (std::size_t t = 1; t < workers; ++t) helpers.emplace_back(drain);
+  drain();
+  for (std::thread& t : helpers) t.join();
+#else
+  struct Graph {
+    tbb::task_group& group;
+    std::atomic<std::uint32_t>* waits;
+    const Body& body;
+    void run(std::size_t t) const {
+      body(t, [this](std::size_t u) {
+        // acq_rel: the thread that runs u sees what every predecessor of u wrote.
+        if (waits[u].fetch_sub(1, std::memory_order_acq_rel) == 1) group.run([this, u] { run(u); });
+      });
+    }
+  };
+  tbb::task_group group;
+  const Graph graph{group, waits, body};
+  for (std::size_t t : roots) group.run([&graph, t] { graph.run(t); });
+  group.wait();
 #endif
 }
 

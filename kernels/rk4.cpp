@@ -82,8 +82,10 @@ std::uint32_t stage_with(std::size_t begin, std::size_t end, const StageParams& 
   constexpr std::size_t W = StageLanes<V>::W;
   std::uint32_t bad = kNone;
   std::size_t i = begin;
-  // Columns are aligned and chunks start at multiples of the chunk size, so vector loads
-  // from i = begin are aligned when begin is a multiple of the width.
+  // Columns are aligned, so vector loads are from the first multiple of the width on; the
+  // nodes before it (a run of a band starts at a row) go one by one, with the same operations.
+  for (; i < end && i % W != 0; ++i)
+    if (!StageLanes<float>::run(i, P, n, s) && bad == kNone) bad = std::uint32_t(i);
   for (; i + W <= end; i += W)
     if (!StageLanes<V>::run(i, P, n, s) && bad == kNone) bad = first_bad(i, W, n, P.blowup_limit);
   for (; i < end; ++i)
