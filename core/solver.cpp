@@ -88,28 +88,19 @@ StageParams stage_params(const World& w, int stage) {
 
 // Runs two independent chunked loops as one parallel region: one barrier instead of two.
 // Chunk boundaries are those each loop would have alone, so nothing depends on the thread
-// count. The region's chunks are A's first half, B's first half, A's second half, B's second
-// half: TBB hands the first half of a range to the calling thread and the second to the
-// thread that steals it, so on 2 threads each takes about half of each loop, and with A the
-// strips, the same half of the sheet in both regions. (The step itself runs StageGraph.)
+// count.
 template <class BodyA, class BodyB>
 void parallel_chunks_pair(std::size_t na, std::size_t chunk_a, const BodyA& body_a, std::size_t nb,
                           std::size_t chunk_b, const BodyB& body_b) {
   const std::size_t ca = chunk_count(na, chunk_a), cb = chunk_count(nb, chunk_b);
-  const std::size_t ha = (ca + 1) / 2, hb = (cb + 1) / 2;
-  auto run_a = [&](std::size_t c) {
-    const std::size_t b = c * chunk_a;
-    body_a(b, std::min(b + chunk_a, na));
-  };
-  auto run_b = [&](std::size_t c) {
-    const std::size_t b = c * chunk_b;
-    body_b(b, std::min(b + chunk_b, nb));
-  };
   parallel_chunks(ca + cb, 1, [&](std::size_t c, std::size_t, std::size_t) {
-    if (c < ha) run_a(c);
-    else if (c < ha + hb) run_b(c - ha);
-    else if (c < ca + hb) run_a(c - hb);
-    else run_b(c - ca);
+    if (c < ca) {
+      const std::size_t b = c * chunk_a;
+      body_a(b, std::min(b + chunk_a, na));
+    } else {
+      const std::size_t b = (c - ca) * chunk_b;
+      body_b(b, std::min(b + chunk_b, nb));
+    }
   });
 }
 
@@ -145,13 +136,17 @@ FineStrips fine_strips(const Topology& topo) {
 // corner sums). The block sums still have to be gathered. `new_topology`: nodes may have been
 // split or blocks entered since the last call, so the block lattice is refreshed. Returns
 // whether it was (also when it had to be built), i.e. whether the gather's entries must be.
+// Builds the block lattice if the block springs changed since it was built; returns whether it did.
+bool sync_block_lattice(const World& w, BlockLattice& lattice) {
+  if (lattice.matches(w.coarse)) return false;
+  build_block_lattice(w.coarse, w.blocks, w.topo.dims, lattice);
+  return true;
+}
+
 bool add_fine_and_block_forces(World& w, SolverScratch& scratch, const CellForceInputs& in,
                                const ForceOutputs& out, bool new_topology) {
   BlockLattice& lattice = scratch.lattice;
-  if (!lattice.matches(w.coarse)) {
-    build_block_lattice(w.coarse, w.blocks, w.topo.dims, lattice);
-    new_topology = true;
-  }
+  if (sync_block_lattice(w, lattice)) new_topology = true;
   const FineStrips strips = fine_strips(w.topo);
   parallel_chunks_pair(
       strips.even_strips(), 1, [&](std::size_t t, std::size_t) { strips.run(2 * t, in, out); },
@@ -339,9 +334,7 @@ void evaluate_forces(World& w, SolverScratch& scratch) {
 void integrate_step(World& w, SolverScratch& scratch) {
   drive_grips(w);
   const bool new_topology = sync_fine_springs(w, scratch);
-  BlockLattice& lattice = scratch.lattice;
-  const bool rebuilt = !lattice.matches(w.coarse);
-  if (rebuilt) build_block_lattice(w.coarse, w.blocks, w.topo.dims, lattice);
+  const bool rebuilt = sync_block_lattice(w, scratch.lattice);
   const StageGraph graph = stage_graph(w, scratch);
   std::vector<std::atomic<std::uint32_t>> waits(graph.tasks());
   scratch.bad.assign(graph.bands + chunk_count(w.nodes.count - std::size_t(w.topo.dims.vertices()), kNodeChunk), kNone);

@@ -3,13 +3,14 @@
 // chunks are handed out with tbb::simple_partitioner (grain 1 chunk), so which thread runs a
 // chunk may vary but what each chunk computes does not. Kernels write disjoint outputs per
 // element; nothing is accumulated across chunks except through per-chunk slots that a serial
-// pass then combines in chunk order. Hence the bits never depend on the thread count.
+// pass then combines in chunk order. Hence the bits never depend on the thread count. A
+// graph of tasks (run_task_graph) lets a task start when its own predecessors are done
+// rather than at a barrier; what each task computes is fixed in the same way.
 #pragma once
-#include <cstddef>
-#include <vector>
-
 #include <atomic>
+#include <cstddef>
 #include <cstdint>
+#include <vector>
 
 #include <oneapi/tbb/blocked_range.h>
 #include <oneapi/tbb/parallel_for.h>
@@ -23,8 +24,6 @@
 #include <deque>
 #include <mutex>
 #include <thread>
-
-#include <oneapi/tbb/task_arena.h>
 #endif
 
 namespace papertear {
