@@ -131,11 +131,6 @@ FineStrips fine_strips(const Topology& topo) {
   return {&topo, chunk_count(std::size_t(std::max(topo.dims.ny, 0)), std::size_t(kStripRows))};
 }
 
-// All fine springs and pass 1 of the block lattice (which shares the first phase's region:
-// both read the stage state and they write disjoint outputs, node forces vs per-block
-// corner sums). The block sums still have to be gathered. `new_topology`: nodes may have been
-// split or blocks entered since the last call, so the block lattice is refreshed. Returns
-// whether it was (also when it had to be built), i.e. whether the gather's entries must be.
 // Builds the block lattice if the block springs changed since it was built; returns whether it did.
 bool sync_block_lattice(const World& w, BlockLattice& lattice) {
   if (lattice.matches(w.coarse)) return false;
@@ -143,6 +138,11 @@ bool sync_block_lattice(const World& w, BlockLattice& lattice) {
   return true;
 }
 
+// All fine springs and pass 1 of the block lattice (which shares the first phase's region:
+// both read the stage state and they write disjoint outputs, node forces vs per-block
+// corner sums). The block sums still have to be gathered. `new_topology`: nodes may have been
+// split or blocks entered since the last call, so the block lattice is refreshed. Returns
+// whether it was (also when it had to be built), i.e. whether the gather's entries must be.
 bool add_fine_and_block_forces(World& w, SolverScratch& scratch, const CellForceInputs& in,
                                const ForceOutputs& out, bool new_topology) {
   BlockLattice& lattice = scratch.lattice;
