@@ -6,6 +6,12 @@
 //  * probe/fma: independent fused multiply-add chains on the widest vectors; flops_per_s.
 //  * probe/sqrt_div: one square root and one division per element, the two long-latency
 //    operations every spring needs (kernels/spring.hpp); pairs_per_s is the spring floor.
+//  * probe/spring: the fine-spring kernel's whole work per spring where nothing else can
+//    slow it: its own arithmetic (kernels/spring_lanes.hpp) on 12 end values and a count
+//    loaded as aligned unit-stride vectors, and the 6 read-modify-writes of the ends' force
+//    sums, over a block of springs that stays in L1; springs_per_s. Where it is far under
+//    pairs_per_s, what a spring needs besides its square root and division (28 other
+//    operations, 19 loads, 6 stores per lane) bounds the step before the sqrt+div floor does.
 // Each runs one task per thread inside a task arena of the case's thread count.
 #include <cstddef>
 #include <vector>
@@ -21,6 +27,7 @@
 #include <xsimd/xsimd.hpp>
 
 #include "bench_cases.hpp"
+#include "kernels/spring_lanes.hpp"
 
 namespace papertear::bench {
 namespace {
@@ -91,6 +98,62 @@ void probe_sqrt_div(benchmark::State& state, int threads) {
   state.counters["pairs_per_s"] = benchmark::Counter(pairs, benchmark::Counter::kIsIterationInvariantRate);
 }
 
+// probe/spring's block: springs a -> b, kSpringLanes of them, as columns.
+constexpr std::size_t kSpringLanes = 256;  // 19 columns of 1 KiB: in any L1 data cache
+constexpr int kSpringRounds = 1 << 12;
+struct alignas(64) SpringBlock {
+  float end[12][kSpringLanes];  // a's x, y, z, vx, vy, vz, then b's
+  float count[kSpringLanes];
+  float fa[3][kSpringLanes], fb[3][kSpringLanes];  // force sums of the a and b ends
+};
+
+void fill_springs(SpringBlock& blk) {
+  for (std::size_t l = 0; l < kSpringLanes; ++l) {
+    const float t = float(l) / float(kSpringLanes);
+    const float a[6] = {t, 0.5f * t, 0.0f, 0.01f, -0.02f, 0.005f};
+    const float d[6] = {1.0f + 0.1f * t, 0.2f, 0.1f - 0.05f * t, 0.03f * t, 0.01f, -0.02f};
+    for (int q = 0; q < 6; ++q) {
+      blk.end[q][l] = a[q];
+      blk.end[6 + q][l] = a[q] + d[q];
+    }
+    blk.count[l] = float(1 + l % 3);
+    for (int q = 0; q < 3; ++q) blk.fa[q][l] = blk.fb[q][l] = 0.0f;
+  }
+}
+
+// The sweep's body (kernels/cell_forces.cpp, SlotPass::springs) for one vector of springs.
+void spring_vector(SpringBlock& blk, std::size_t i, const Batch& vk, const Batch& vc, const Batch& rest) {
+  Batch pa[6], pb[6], f[3];
+  for (int q = 0; q < 6; ++q) {
+    pa[q] = Batch::load_aligned(&blk.end[q][i]);
+    pb[q] = Batch::load_aligned(&blk.end[6 + q][i]);
+  }
+  spring_force<Batch, false>(pa, pb, Batch::load_aligned(&blk.count[i]), vk, vk, vc, rest, f);
+  for (int q = 0; q < 3; ++q) {
+    (Batch::load_aligned(&blk.fa[q][i]) + f[q]).store_aligned(&blk.fa[q][i]);
+    (Batch::load_aligned(&blk.fb[q][i]) - f[q]).store_aligned(&blk.fb[q][i]);
+  }
+}
+
+void probe_spring(benchmark::State& state, int threads) {
+  tbb::task_arena arena(threads);
+  std::vector<SpringBlock> blocks(static_cast<std::size_t>(threads));
+  for (SpringBlock& blk : blocks) fill_springs(blk);
+  for (auto _ : state) {
+    state.SetIterationTime(on_threads(arena, threads, [&](int t) {
+      SpringBlock& blk = blocks[std::size_t(t)];
+      const Batch vk(2.0f), vc(0.01f), rest(1.0f);
+      for (int r = 0; r < kSpringRounds; ++r) {
+        for (std::size_t i = 0; i < kSpringLanes; i += Batch::size) spring_vector(blk, i, vk, vc, rest);
+        benchmark::ClobberMemory();  // every round loads its springs again, as the sweep does
+      }
+    }));
+    benchmark::DoNotOptimize(blocks.data());
+  }
+  const double springs = double(kSpringLanes) * kSpringRounds * threads;
+  state.counters["springs_per_s"] = benchmark::Counter(springs, benchmark::Counter::kIsIterationInvariantRate);
+}
+
 }  // namespace
 
 SqrtDivRun sqrt_div_run(tbb::task_arena& arena, int threads) {
@@ -118,6 +181,7 @@ void register_probe_benchmarks() {
     register_timed("probe/triad" + suffix, benchmark::kMillisecond, probe_triad, threads);
     register_timed("probe/fma" + suffix, benchmark::kMicrosecond, probe_fma, threads);
     register_timed("probe/sqrt_div" + suffix, benchmark::kMicrosecond, probe_sqrt_div, threads);
+    register_timed("probe/spring" + suffix, benchmark::kMicrosecond, probe_spring, threads);
   }
 }
 

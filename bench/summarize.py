@@ -13,6 +13,11 @@ The floor of one RK4 step is the larger of (both are also reported on their own)
 each at the same thread count (every spring the solver evaluates, distinct fine springs and
 block springs, needs one square root and one division; every stage streams the solver state
 at least once). Results without the evaluated_springs counter fall back to cells * 28.
+Beside them, the spring floor: evaluated_springs * 4 / probe/spring's springs per second,
+each spring costing what the fine-spring kernel's body costs with its data in L1 (loads,
+arithmetic, stores; bench/probe_bench.cpp), and what that body costs against its sqrt+div
+(probe/sqrt_div's rate / probe/spring's): how much of a "within N x of the compute floor"
+budget the springs' own work takes before anything else in the step.
 
 usage: summarize.py latest.json out.md out-summary.json
 """
@@ -81,6 +86,11 @@ def ratios(cases):
                 # Issue 5 states its target against the compute floor alone.
                 out.append((f"step {size}, {t} threads: measured / compute floor ({compute * 1e3:.3f} ms, sqrt+div)",
                             step_case["seconds"] / compute, "vs compute floor"))
+                spring_rate = cases.get(f"probe/spring/threads:{t}", {}).get("counters", {}).get("springs_per_s")
+                if spring_rate:
+                    spring = springs * 4 / spring_rate
+                    out.append((f"step {size}, {t} threads: measured / spring floor ({spring * 1e3:.3f} ms, "
+                                "each spring at probe/spring's rate)", step_case["seconds"] / spring, "vs spring floor"))
         out += paired(cases, size)
     out += growth_and_render(cases)
     return out
@@ -119,10 +129,18 @@ def growth_and_render(cases):
     # threads, the triad only the memory system): the ceiling for the thread-scaling ratios
     # above, which on a VM can be well under 2 (a shared core, a lower clock with both cores
     # busy, other tenants).
-    for probe, key in (("fma", "flops_per_s"), ("sqrt_div", "pairs_per_s"), ("triad", "bytes_per_s")):
+    for probe, key in (("fma", "flops_per_s"), ("sqrt_div", "pairs_per_s"), ("spring", "springs_per_s"),
+                       ("triad", "bytes_per_s")):
         one, two = counter(f"probe/{probe}/threads:1", key), counter(f"probe/{probe}/threads:2", key)
         if one and two:
             out.append((f"probe/{probe} ({key}): 2 threads / 1 thread", two / one, "thread scaling"))
+    # A spring's whole cached work against its square root and division: the spring floor
+    # over the compute floor, at any sheet size.
+    for t in (1, 2):
+        pairs, springs = counter(f"probe/sqrt_div/threads:{t}", "pairs_per_s"), counter(f"probe/spring/threads:{t}", "springs_per_s")
+        if pairs and springs:
+            out.append((f"probe/spring vs probe/sqrt_div, {t} threads: a spring's cached work / its sqrt+div",
+                        pairs / springs, "vs compute floor"))
     for state in ("intact", "torn"):
         one = cases.get(f"render/frame/{state}/90x90x5/threads:1", {}).get("seconds")
         two = cases.get(f"render/frame/{state}/90x90x5/threads:2", {}).get("seconds")

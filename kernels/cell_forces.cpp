@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "kernels/lanes.hpp"
+#include "kernels/spring_lanes.hpp"
 
 #if !defined(PAPERTEAR_NO_SIMD) && XSIMD_WITH_AVX2
 #include <immintrin.h>
@@ -134,29 +135,7 @@ struct AlongRow {
   alignas(64) float b[3][kRowChunk];
 };
 
-// The force of W springs from their end values (pa: the a ends' x, y, z, vx, vy, vz; pb: the
-// b ends'), count n, stiffness factor s (kScaled; otherwise k = K and c = C, the same bits
-// as 1 * K and 1 * C). L and 1 / L^2 both start from L^2 = d · d, so that the square root and
-// the division overlap (1 / L is L / L^2): the loop waits on this chain more than on anything
-// else, and the version dividing by L after the square root was ~7 % slower (Zen 3).
-template <class V, bool kScaled>
-[[gnu::always_inline]] inline void spring_force(const V (&pa)[6], const V (&pb)[6], const V& n, const V& s, const V& vk,
-                                                const V& vc, const V& rest, V (&f)[3]) {
-  using T = Lanes<V>;
-  const V dx = pb[0] - pa[0], dy = pb[1] - pa[1], dz = pb[2] - pa[2];
-  const V du = pb[3] - pa[3], dv = pb[4] - pa[4], dw = pb[5] - pa[5];
-  const V d2 = dx * dx + dy * dy + dz * dz;
-  const V len = T::sqrt(d2), r2 = V(1.0f) / d2;
-  V k = vk, c = vc;
-  if constexpr (kScaled) {
-    k = s * vk;
-    c = s * vc;
-  }
-  const V g = ((k * n) * (len - rest)) * (len * r2) + ((c * n) * (du * dx + dv * dy + dw * dz)) * r2;
-  f[0] = g * dx;
-  f[1] = g * dy;
-  f[2] = g * dz;
-}
+// spring_force (kernels/spring_lanes.hpp): the force of W springs from their end values.
 
 // Slot S of a row's cells, W at a time: the cells without split copies among their corners
 // ("whole" cells; the others add zeros here and their springs in DirtyCells).
