@@ -5,13 +5,14 @@
 //    write-allocate read is not counted, as in STREAM).
 //  * probe/fma: independent fused multiply-add chains on the widest vectors; flops_per_s.
 //  * probe/sqrt_div: one square root and one division per element, the two long-latency
-//    operations every spring needs (kernels/spring.hpp); pairs_per_s is the spring floor.
+//    operations every spring needs (kernels/spring.hpp); pairs_per_s gives the compute floor.
 //  * probe/spring: the fine-spring kernel's whole work per spring where nothing else can
 //    slow it: its own arithmetic (kernels/spring_lanes.hpp) on 12 end values and a count
 //    loaded as aligned unit-stride vectors, and the 6 read-modify-writes of the ends' force
 //    sums, over a block of springs that stays in L1; springs_per_s. Where it is far under
 //    pairs_per_s, what a spring needs besides its square root and division (28 other
-//    operations, 19 loads, 6 stores per lane) bounds the step before the sqrt+div floor does.
+//    operations a lane; 19 loads and 6 stores a vector) bounds the step before the sqrt+div
+//    floor does.
 // Each runs one task per thread inside a task arena of the case's thread count.
 #include <cstddef>
 #include <vector>
