@@ -214,6 +214,9 @@ struct StageGraph {
 // Per block chunk, the first and last band that holds a corner of its blocks (lanes run by
 // the blocks' first row, so these are a few bands; a corner on the row before a band's
 // first may be in that band, see StageGraph::at); recomputed when the lattice is rebuilt.
+// These are all the nodes the chunk's pass reads (padding lanes and corners no spring joins
+// load corners of its blocks, kernels/coarse_forces.cpp), apart from nodes made by splits,
+// which no band updates.
 void plan_block_chunk_bands(const World& w, const StageGraph& g, SolverScratch& scratch) {
   const BlockLattice& L = scratch.lattice;
   if (scratch.chunk_bands_for == L.built_from && scratch.chunk_bands_lanes == L.lanes &&

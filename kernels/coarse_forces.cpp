@@ -274,6 +274,25 @@ using BlockLane = lanes::Wide;
 #endif
 static_assert(kBlockGroup % lanes::Traits<BlockLane>::width == 0, "a vector never straddles a parameter group");
 
+// Pass 1 loads all 8 corners of every lane, so corners no spring joins and padding lanes
+// still name a node, whose stage state the pack copies. Left at slot 0 they would name node 0,
+// which the block chunk's task is not ordered against: the solver orders it only before the
+// bands of rows that hold its blocks' corners (core/solver.cpp), and band 0 updates node 0
+// meanwhile, a data race. So an unused corner names a used corner of its own block, and a
+// padding lane the corners of the last block (the padding shares its chunk). The springs
+// to such corners are absent and add exactly zero, so this changes no bits.
+void alias_unused_corners(const std::vector<std::uint8_t>& used, std::size_t real_lanes, BlockLattice& L) {
+  const std::size_t P = L.lanes;
+  for (std::size_t j = 0; j < real_lanes; ++j) {
+    std::size_t q0 = 0;
+    while (!used[q0 * P + j]) ++q0;  // a block with springs uses some corner
+    for (std::size_t q = 0; q < 8; ++q)
+      if (!used[q * P + j]) L.corner_slot[q * P + j] = L.corner_slot[q0 * P + j];
+  }
+  for (std::size_t j = real_lanes; j < P; ++j)
+    for (std::size_t q = 0; q < 8; ++q) L.corner_slot[q * P + j] = L.corner_slot[q * P + real_lanes - 1];
+}
+
 }  // namespace
 
 void build_block_lattice(const CoarseSprings& sp, const std::vector<Block>& blocks, const LatticeDims& d,
@@ -319,6 +338,7 @@ void build_block_lattice(const CoarseSprings& sp, const std::vector<Block>& bloc
       used[std::size_t(sp.corner_a[i]) * P + j] = used[std::size_t(sp.corner_b[i]) * P + j] = 1;
     }
   }
+  alias_unused_corners(used, with_springs.size(), L);
   // Per vertex, the used block corners in ascending block id.
   const std::size_t vertices = std::size_t(d.vertices());
   L.first.assign(vertices + 1, 0);

@@ -444,6 +444,40 @@ TEST_CASE("the block lattice's packed corners give the per-spring forces before 
   CHECK(moved > 0);
 }
 
+// The solver orders a block chunk's task only before the bands of rows that hold its blocks'
+// corners (core/solver.cpp), so pass 1 may load no other node's state: not for a corner that
+// no spring joins, nor for a padding lane. A load of node 0 there raced with band 0's update.
+TEST_CASE("a block lane loads only corners of its own block, padding lanes those of the last block", "[reference]") {
+  for (const std::array<int, 3> cells : {std::array<int, 3>{40, 12, 3}, std::array<int, 3>{30, 30, 3}}) {
+    pt::Scene scene = small_pull_scene();
+    scene.sheet.cells = cells;
+    const pt::World w = pt::Simulation(scene, {.threads = 1}).world();
+    pt::BlockLattice L;
+    pt::build_block_lattice(w.coarse, w.blocks, w.topo.dims, L);
+    const std::size_t real = std::size_t(std::find(L.block.begin(), L.block.end(), UINT32_MAX) - L.block.begin());
+    REQUIRE(real > 0);
+    std::size_t unused = 0;  // the cases this test is for: corners no spring joins, padding lanes
+    std::vector<std::uint8_t> used(8 * L.lanes, 0);
+    for (std::size_t j = 0; j < real; ++j) {
+      const pt::Block& blk = w.blocks[L.block[j]];
+      for (std::uint32_t i = blk.first_spring; i < blk.first_spring + blk.spring_count; ++i)
+        used[w.coarse.corner_a[i] * L.lanes + j] = used[w.coarse.corner_b[i] * L.lanes + j] = 1;
+    }
+    for (std::size_t j = 0; j < L.lanes; ++j)
+      for (int q = 0; q < 8; ++q) {
+        unused += used[std::size_t(q) * L.lanes + j] ? 0 : 1;
+        const pt::Block& blk = w.blocks[L.block[std::min(j, real - 1)]];
+        const std::uint32_t slot = L.corner_slot[std::size_t(q) * L.lanes + j];
+        const std::array<int, 3> v = w.topo.dims.vertex_ijk(w.topo.dims.corner_vertex(slot / 8, int(slot % 8)));
+        for (int a = 0; a < 3; ++a) {
+          INFO("lane " << j << " of " << real << " blocks, corner " << q << ", axis " << a);
+          CHECK((v[std::size_t(a)] == blk.lo[std::size_t(a)] || v[std::size_t(a)] == blk.hi[std::size_t(a)]));  // hi: exclusive in cells
+        }
+      }
+    CHECK(unused > 0);
+  }
+}
+
 // The lanes run by the blocks' first row (the solver's strips and node bands are by rows), but
 // a node must still get its blocks' corner sums in ascending block id: the sum below is that
 // definition, block by block over the corners their springs join, straight from the blocks.
