@@ -2,7 +2,11 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
+#include <functional>
 #include <numeric>
+#include <queue>
+#include <utility>
 #include <vector>
 
 #include "core/contact.hpp"
@@ -42,57 +46,178 @@ std::vector<std::uint32_t> label_pieces(const World& w) {
   return label;
 }
 
-// The two largest pieces that hold at least a tenth of the cells each (ties: lower label
-// first); UINT32_MAX where there is none. Smaller pieces are fragments, not halves of a tear.
-std::array<std::uint32_t, 2> two_largest(const std::vector<std::uint32_t>& label, std::int64_t& pieces) {
-  std::vector<std::uint32_t> size(label.size(), 0);
+struct Piece {
+  std::uint32_t label;  // its lowest cell
+  std::int64_t cells;
+};
+
+// The pieces, largest first (ties: lower label first).
+std::vector<Piece> pieces_by_size(const std::vector<std::uint32_t>& label) {
+  std::vector<std::int64_t> size(label.size(), 0);
   for (std::uint32_t l : label) ++size[l];
-  std::array<std::uint32_t, 2> best{UINT32_MAX, UINT32_MAX};
-  pieces = 0;
-  for (std::uint32_t l = 0; l < size.size(); ++l) {
-    if (size[l] == 0) continue;
-    ++pieces;
-    if (best[0] == UINT32_MAX || size[l] > size[best[0]]) best = {l, best[0]};
-    else if (best[1] == UINT32_MAX || size[l] > size[best[1]]) best[1] = l;
-  }
-  for (std::uint32_t& b : best)
-    if (b != UINT32_MAX && size[b] * 10 < label.size()) b = UINT32_MAX;
-  return best;
+  std::vector<Piece> pieces;
+  for (std::uint32_t l = 0; l < size.size(); ++l)
+    if (size[l] > 0) pieces.push_back({l, size[l]});
+  std::stable_sort(pieces.begin(), pieces.end(), [](const Piece& a, const Piece& b) { return a.cells > b.cells; });
+  return pieces;
 }
 
-// Torn faces of the top layer: their total length and the path's roughness. Once the sheet
-// is in pieces, the tear is the boundary between the two largest pieces (fragments and
-// cracks that did not go through are left out); before that, every torn face counts.
-void measure_top_edges(const World& w, const std::vector<std::uint32_t>& label,
-                       const std::array<std::uint32_t, 2>& main, Metrics& m) {
+// Counts and sizes; a piece under 1 % of the cells is a fragment, not a part of the sheet.
+void measure_pieces(const std::vector<Piece>& pieces, std::size_t cells, Metrics& m) {
+  m.pieces = std::int64_t(pieces.size());
+  std::int64_t fragment_cells = 0;
+  for (const Piece& p : pieces) {
+    m.piece_cells.push_back(p.cells);
+    if (std::size_t(p.cells) * 100 >= cells) continue;
+    ++m.fragments;
+    fragment_cells += p.cells;
+  }
+  m.fragment_fraction = double(fragment_cells) / double(cells);
+}
+
+// The two pieces a tear has separated: the two largest, when each holds at least a tenth of
+// the cells; UINT32_MAX when the sheet is not in two (smaller pieces are torn-off bits).
+std::array<std::uint32_t, 2> halves(const std::vector<Piece>& pieces, std::size_t cells) {
+  if (pieces.size() < 2 || std::size_t(pieces[1].cells) * 10 < cells) return {UINT32_MAX, UINT32_MAX};
+  return {pieces[0].label, pieces[1].label};
+}
+
+// The torn in-plane faces of the top layer as edges of its grid of vertices (I, J), numbered
+// v = I + (nx + 1) J: the face between cells (i, j) and (i + 1, j) is the edge from (i + 1, j)
+// to (i + 1, j + 1), the face between (i, j) and (i, j + 1) the edge from (i, j + 1) to
+// (i + 1, j + 1). Paths along a crack then run on grid lines, so none is shorter than the
+// straight line between its ends.
+constexpr std::uint8_t kTorn = 1, kSeparates = 2;  // kSeparates: between the two halves
+struct TearGraph {
+  std::uint32_t row = 0;  // vertices per grid row: nx + 1
+  double hx = 1.0, hy = 1.0;
+  std::vector<std::uint8_t> east, north;  // flags of the edge v -> v + 1 (length hx), v -> v + row (hy)
+};
+
+TearGraph tear_graph(const World& w, const std::vector<std::uint32_t>& label,
+                     const std::array<std::uint32_t, 2>& half) {
   const LatticeDims& d = w.topo.dims;
   const int k = d.nl - 1;
-  const bool separated = main[1] != UINT32_MAX;
-  double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
-  double length = 0.0, path = 0.0;
+  TearGraph g{std::uint32_t(d.nx + 1), d.hx, d.hy, {}, {}};
+  g.east.assign(std::size_t(d.nx + 1) * std::size_t(d.ny + 1), 0);
+  g.north.assign(g.east.size(), 0);
   for (int j = 0; j < d.ny; ++j)
     for (int i = 0; i < d.nx; ++i)
       for (int axis = 0; axis < 2; ++axis) {
         if ((axis == 0 ? i + 1 : j + 1) >= (axis == 0 ? d.nx : d.ny)) continue;
         const std::uint32_t c = d.cell_index(i, j, k);
         if (faces_connected(w, c, 2 * axis + 1)) continue;
-        const double face = axis == 0 ? d.hy : d.hx;
-        length += face;
         const std::uint32_t n = axis == 0 ? d.cell_index(i + 1, j, k) : d.cell_index(i, j + 1, k);
-        const bool on_tear = !separated || (label[c] != label[n] && (label[c] == main[0] || label[c] == main[1]) &&
-                                            (label[n] == main[0] || label[n] == main[1]));
-        if (!on_tear) continue;
-        path += face;
-        const double centre[2] = {(i + (axis == 0 ? 1.0 : 0.5)) * d.hx, (j + (axis == 1 ? 1.0 : 0.5)) * d.hy};
-        for (int a = 0; a < 2; ++a) {
-          lo[a] = std::min(lo[a], centre[a]);
-          hi[a] = std::max(hi[a], centre[a]);
-        }
+        const bool separates = half[1] != UINT32_MAX && label[c] != label[n] &&
+                               (label[c] == half[0] || label[c] == half[1]) &&
+                               (label[n] == half[0] || label[n] == half[1]);
+        const std::uint8_t flags = kTorn | (separates ? kSeparates : 0);
+        if (axis == 0) g.north[std::size_t(i + 1) + g.row * std::size_t(j)] = flags;
+        else g.east[std::size_t(i) + g.row * std::size_t(j + 1)] = flags;
       }
-  m.torn_edge_length = length;
-  if (path == 0.0) return;
-  const double extent = std::max(hi[0] - lo[0] + d.hx, hi[1] - lo[1] + d.hy);
-  m.edge_roughness = path / extent;
+  return g;
+}
+
+// Calls fn(u, length, flags) for every torn edge from vertex v to u. East edges exist only for
+// I < nx and north ones for J < ny, so u is always on the grid.
+template <class Fn>
+void for_each_torn_edge(const TearGraph& g, std::uint32_t v, Fn&& fn) {
+  if (g.east[v]) fn(v + 1, g.hx, g.east[v]);
+  if (v % g.row > 0 && g.east[v - 1]) fn(v - 1, g.hx, g.east[v - 1]);
+  if (g.north[v]) fn(v + g.row, g.hy, g.north[v]);
+  if (v >= g.row && g.north[v - g.row]) fn(v - g.row, g.hy, g.north[v - g.row]);
+}
+
+bool torn_at(const TearGraph& g, std::uint32_t v) {
+  bool any = false;
+  for_each_torn_edge(g, v, [&](std::uint32_t, double, std::uint8_t) { any = true; });
+  return any;
+}
+
+// A crack: a connected set of torn edges. Lengths are kept as edge counts, so that a path's
+// length and its chord are computed from the same integers (see measure_tear).
+struct Crack {
+  std::vector<std::uint32_t> vertices;  // in breadth-first order from its lowest vertex
+  std::int64_t along_x = 0, along_y = 0;
+  bool separates = false;  // holds an edge between the two halves
+  double length(const TearGraph& g) const { return double(along_x) * g.hx + double(along_y) * g.hy; }
+};
+
+std::vector<Crack> find_cracks(const TearGraph& g) {
+  std::vector<std::uint8_t> seen(g.east.size(), 0);
+  std::vector<Crack> cracks;
+  for (std::uint32_t s = 0; s < seen.size(); ++s) {
+    if (seen[s] || !torn_at(g, s)) continue;
+    Crack c;
+    c.vertices.push_back(s);
+    seen[s] = 1;
+    for (std::size_t q = 0; q < c.vertices.size(); ++q) {
+      const std::uint32_t v = c.vertices[q];
+      for_each_torn_edge(g, v, [&](std::uint32_t u, double, std::uint8_t flags) {
+        if (u > v) ++(u == v + 1 ? c.along_x : c.along_y);  // each edge once, from its lower end
+        c.separates |= (flags & kSeparates) != 0;
+        if (!seen[u]) c.vertices.push_back(u), seen[u] = 1;
+      });
+    }
+    cracks.push_back(std::move(c));
+  }
+  return cracks;
+}
+
+// The crack's vertex farthest from `from` along it (ties: the lowest), by Dijkstra; `dist`
+// is infinite on the crack before and after.
+std::uint32_t farthest(const TearGraph& g, const Crack& c, std::uint32_t from, std::vector<double>& dist) {
+  using Item = std::pair<double, std::uint32_t>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<>> queue;
+  dist[from] = 0.0;
+  queue.push({0.0, from});
+  std::uint32_t best = from;
+  while (!queue.empty()) {
+    const auto [d, v] = queue.top();
+    queue.pop();
+    if (d > dist[v]) continue;
+    if (d > dist[best] || (d == dist[best] && v < best)) best = v;
+    for_each_torn_edge(g, v, [&](std::uint32_t u, double length, std::uint8_t) {
+      if (d + length < dist[u]) queue.push({dist[u] = d + length, u});
+    });
+  }
+  for (std::uint32_t v : c.vertices) dist[v] = INFINITY;
+  return best;
+}
+
+// The straight distance between the crack's far ends: the farthest vertex from any one, then
+// the farthest from that (exact for a chain or a tree of torn edges).
+double chord(const TearGraph& g, const Crack& c, std::vector<double>& dist) {
+  const std::uint32_t a = farthest(g, c, c.vertices.front(), dist);
+  const std::uint32_t b = farthest(g, c, a, dist);
+  const double dx = std::abs(double(a % g.row) - double(b % g.row)) * g.hx;
+  const double dy = std::abs(double(a / g.row) - double(b / g.row)) * g.hy;
+  return std::hypot(dx, dy);
+}
+
+// Torn length, roughness, tear length. The cracks measured are the ones that separate the two
+// halves once the sheet is in two (cracks that did not go through, and fragments' outlines,
+// are left out), every crack before that; the main crack is the longest measured one.
+void measure_tear(const TearGraph& g, std::int64_t splits_inplane, Metrics& m) {
+  const std::vector<Crack> cracks = find_cracks(g);
+  const bool separated = std::any_of(cracks.begin(), cracks.end(), [](const Crack& c) { return c.separates; });
+  std::vector<double> dist(g.east.size(), INFINITY);
+  std::int64_t along_x = 0, along_y = 0;
+  double weighted = 0.0, total = 0.0, main_length = 0.0;
+  for (const Crack& c : cracks) {
+    along_x += c.along_x, along_y += c.along_y;
+    if (separated && !c.separates) continue;
+    // length / chord >= 1: a path between the far ends takes at least |dI| edges along x and
+    // |dJ| along y, so length >= |dI| hx + |dJ| hy >= the chord (rounding is monotonic in both).
+    const double length = c.length(g), chord_length = chord(g, c, dist);
+    weighted += length * (length / chord_length);
+    total += length;
+    if (length > main_length) main_length = length, m.tear_length = chord_length;
+  }
+  m.torn_edge_length = double(along_x) * g.hx + double(along_y) * g.hy;
+  if (total == 0.0) return;
+  m.edge_roughness = weighted / total;
+  m.splits_per_tear_length = double(splits_inplane) / m.tear_length;
 }
 
 double peeled_area(const World& w) {
@@ -163,7 +288,9 @@ Metrics measure(const World& w) {
   m.time = w.time;
   for (const SplitEvent& e : w.events) (e.interlayer ? m.splits_interlayer : m.splits_inplane) += 1;
   const std::vector<std::uint32_t> label = label_pieces(w);
-  measure_top_edges(w, label, two_largest(label, m.pieces), m);
+  const std::vector<Piece> pieces = pieces_by_size(label);
+  measure_pieces(pieces, label.size(), m);
+  measure_tear(tear_graph(w, label, halves(pieces, label.size())), m.splits_inplane, m);
   m.peeled_area = peeled_area(w);
   m.grip_force = grip_force(w);
   m.indenter_force = indenter_force(w);

@@ -423,6 +423,11 @@ TEST_CASE("the run state round-trips every metric exactly", "[checkpoint]") {
   m.kinetic_energy = 1e300;
   m.elastic_energy = 3.14159;
   m.intact_blocks = 99;
+  m.piece_cells = {40, 31, 2};
+  m.fragments = 1;
+  m.fragment_fraction = 2.0 / 73.0;
+  m.tear_length = 12.625;
+  m.splits_per_tear_length = 6.5;
   s.record.frames = {m, pt::Metrics{}};
   s.record.wall_seconds = 1.5;
   s.record.step_seconds = 1.25;
