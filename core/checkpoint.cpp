@@ -186,18 +186,17 @@ void scene_fields(IO& io, S& s) {
   io.section("SCEN");
   for (auto& v : s.sheet.cells) io.int32(v, "sheet.cells");
   io.fixed(s.sheet.cell_size, "sheet.cell_size");
-  io.field(s.sheet.density, "sheet.density");
 
   auto& m = s.material;
   io.text(m.preset, "material.preset");
   io.letter(m.grain, "material.grain");
-  for (auto* v : {&m.k_edge, &m.k_face, &m.k_body, &m.damping, &m.grain_stiffness, &m.fiber_length,
-                  &m.fiber_length_sigma})
+  for (auto* v : {&m.E_md, &m.E_cd, &m.E_zd, &m.G_md_cd, &m.G_md_zd, &m.G_cd_zd, &m.density, &m.damping,
+                  &m.fiber_length, &m.fiber_length_sigma})
     io.field(*v, "a material value");
   io.int32(m.block_width, "material.block_width");
   io.int32(m.block_depth, "material.block_depth");
   for (auto* v : {&m.block_stiffness, &m.strain_intra, &m.strain_inter, &m.strain_layer, &m.strain_surface,
-                  &m.grain_strength, &m.strength_jitter})
+                  &m.grain_strength, &m.strength_jitter, &m.tip_strength, &m.bridge_time})
     io.field(*v, "a material value");
 
   auto& l = s.load;
@@ -274,6 +273,7 @@ void topology_fields(IO& io, T& t) {
   io.column(t.cell_scale, "cell_scale");
   io.column(t.cell_block, "cell_block");
   io.column(t.face_strain, "face_strain");
+  io.column(t.face_damage, "face_damage");
 }
 
 template <class IO, class S>
@@ -403,6 +403,7 @@ void check_sizes(const World& w) {
   require_size(w.topo.cell_scale.size(), cells, "cell_scale");
   require_size(w.topo.cell_block.size(), cells, "cell_block");
   require_size(w.topo.face_strain.size(), cells * kFacesPerCell, "face_strain");
+  require_size(w.topo.face_damage.size(), cells * kFacesPerCell, "face_damage");
   const CoarseSprings& c = w.coarse;
   for (std::size_t size : {c.cell_b.size(), c.corner_a.size(), c.corner_b.size(), c.rest.size(),
                            c.stiffness.size(), c.damping.size(), c.block.size()})

@@ -24,7 +24,8 @@
 //         last: u64 count, each kind, u64 point count + (x, y) pairs, strength, i32 depth,
 //         pitch, duty
 //   NODE  node count, then each NodeStore column (u64 count + elements)
-//   TOPO  LatticeDims, cell_nodes, the 8 colour lists, cell_scale, cell_block, face_strain
+//   TOPO  LatticeDims, cell_nodes, the 8 colour lists, cell_scale, cell_block, face_strain,
+//         face_damage
 //   SPRG  SpringTable: 28 rest lengths, 28 stiffnesses, 28 dampings
 //   CRSE  CoarseSprings columns
 //   BLKS  blocks (lo, hi, strength, intact, first_spring, spring_count)
@@ -49,7 +50,8 @@
 
 namespace papertear {
 
-inline constexpr std::uint32_t kCheckpointFormatVersion = 3;  // 2: the indenter keys; 3: scene lines
+inline constexpr std::uint32_t kCheckpointFormatVersion = 4;  // 2: the indenter keys; 3: scene lines;
+                                                             // 4: material from moduli and density
 inline constexpr std::size_t kCheckpointHeaderSize = 32;
 inline constexpr std::string_view kCheckpointMagic{"\x89PTCK\r\n\x1a\n", 8};
 

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "core/elasticity.hpp"
 #include "core/lattice_builder.hpp"
 #include "core/solver.hpp"
 #include "kernels/parallel.hpp"
@@ -25,8 +26,7 @@ std::optional<Indenter> make_indenter(const World& w) {
     ind.sin_a = float(std::sin(a));
     ind.cos_a = float(std::cos(a));
   }
-  const double cell_mass = w.scene.sheet.density * d.hx * d.hy * d.hz;
-  const double k = l.contact_stiffness * w.scene.material.k_edge / cell_mass;
+  const double k = l.contact_stiffness * stiffest_edge(w.springs) / cell_mass(w.scene.material, d);
   ind.stiffness = float(k);
   ind.damping = float(k * w.scene.material.damping);
   ind.speed = l.speed;

@@ -10,7 +10,7 @@
 //
 // Contact: a node of mass m inside the body feels f = m · max(0, k δ − c v_n) n along the
 // outward normal n, with δ the depth, v_n the normal speed relative to the indenter,
-// k = contact_stiffness · k_edge per cell mass and c = damping · k like every spring. The
+// k = contact_stiffness · (stiffest edge spring) per cell mass and c = damping · k like every spring. The
 // penalty is per unit mass because a node stands for its share of material: a node of a
 // split, lighter, is pushed less, so the contact's frequency √k is the same on every node
 // whatever the tearing does, and core/timestep.hpp's bound on ω² simply grows by k (the

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "core/elasticity.hpp"
+
 namespace papertear {
 namespace {
 
@@ -17,7 +19,7 @@ struct Report {
 // Every corner names a live node that sits at the lattice vertex of that corner.
 void check_cells(const World& w, Report& r, std::vector<double>& mass) {
   const LatticeDims& d = w.topo.dims;
-  const double cell_mass = w.scene.sheet.density * d.hx * d.hy * d.hz;
+  const double one_cell = cell_mass(w.scene.material, d);
   for (std::uint32_t c = 0; c < std::uint32_t(d.cells()) && !r.full(); ++c) {
     auto ijk = d.cell_ijk(c);
     for (int q = 0; q < 8; ++q) {
@@ -31,7 +33,7 @@ void check_cells(const World& w, Report& r, std::vector<double>& mass) {
       if (w.nodes.vertex[n] != v)
         r.add("node " + std::to_string(n) + " used by cell " + std::to_string(c) + " at vertex " +
               std::to_string(v) + " but recorded at vertex " + std::to_string(w.nodes.vertex[n]));
-      mass[n] += cell_mass / 8.0;
+      mass[n] += one_cell / 8.0;
     }
   }
 }

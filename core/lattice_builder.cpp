@@ -3,12 +3,14 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/elasticity.hpp"
+
 namespace papertear {
 
 SpringTable make_spring_table(const MaterialParams& m, const LatticeDims& d) {
+  const SpringFit fit = fit_springs(target_moduli(m), d);
   SpringTable t;
   const double h[3] = {d.hx, d.hy, d.hz};
-  const int grain_axis = m.grain == 'y' ? 1 : 0;
   for (int s = 0; s < kSpringsPerCell; ++s) {
     const SpringSlot& slot = kSpringSlots[std::size_t(s)];
     double len2 = 0.0;
@@ -16,18 +18,22 @@ SpringTable make_spring_table(const MaterialParams& m, const LatticeDims& d) {
       if (corner_bit(slot.a, axis) != corner_bit(slot.b, axis)) len2 += h[axis] * h[axis];
     double k = 0.0;
     switch (slot.family) {
-      case SpringFamily::Edge:
-        // Grain anisotropy (MODEL.md §4): fibres stiffen the edges that run along them.
-        k = m.k_edge * (slot.axis == grain_axis ? m.grain_stiffness : 1.0);
-        break;
-      case SpringFamily::Face: k = m.k_face; break;
-      case SpringFamily::Body: k = m.k_body; break;
+      // The block lattice (fracture/blocks.cpp) carries block_stiffness of the edges' share.
+      case SpringFamily::Edge: k = fit.edge[slot.axis] * (1.0 - m.block_stiffness); break;
+      case SpringFamily::Face: k = fit.face[slot.axis]; break;
+      case SpringFamily::Body: k = fit.body; break;
     }
     t.rest[std::size_t(s)] = float(std::sqrt(len2));
     t.stiffness[std::size_t(s)] = float(k);
     t.damping[std::size_t(s)] = float(k * m.damping);
   }
   return t;
+}
+
+double stiffest_edge(const SpringTable& t) {
+  double k = 0.0;
+  for (int s = 0; s < kEdgesPerCell; ++s) k = std::max(k, double(t.stiffness[std::size_t(s)]));
+  return k;
 }
 
 TearGrips tear_grips(const LoadParams& load, const LatticeDims& dims) {
@@ -85,6 +91,7 @@ void connect_cells(World& w) {
   t.cell_scale.assign(std::size_t(d.cells()), 1.0f);
   t.cell_block.assign(std::size_t(d.cells()), 0u);
   t.face_strain.assign(std::size_t(d.cells()) * kFacesPerCell, INFINITY);
+  t.face_damage.assign(std::size_t(d.cells()) * kFacesPerCell, 0.0f);
 }
 
 // Puts every node whose lattice vertex `which_grip` assigns to grip g > 0 in that grip.
@@ -162,9 +169,9 @@ void attach_grips(World& w) {
 
 void recompute_masses(World& w) {
   const LatticeDims& d = w.topo.dims;
-  const double cell_mass = w.scene.sheet.density * d.hx * d.hy * d.hz;
+  const double mass = cell_mass(w.scene.material, d);
   std::vector<double> m(w.nodes.count, 0.0);
-  for (std::size_t i = 0; i < w.topo.cell_nodes.size(); ++i) m[w.topo.cell_nodes[i]] += cell_mass / 8.0;
+  for (std::size_t i = 0; i < w.topo.cell_nodes.size(); ++i) m[w.topo.cell_nodes[i]] += mass / 8.0;
   for (std::size_t n = 0; n < w.nodes.count; ++n) {
     w.nodes.mass[n] = float(m[n]);
     w.nodes.inv_mass[n] = m[n] > 0.0 ? float(1.0 / m[n]) : 0.0f;

@@ -8,7 +8,10 @@ namespace papertear {
 
 void build_lattice(const Scene& scene, World& out);
 // The 28 slots' rest length, stiffness and damping for a material on a lattice.
+// Fitted to the material's moduli (core/elasticity.hpp), the edges less the block lattice's share.
 SpringTable make_spring_table(const MaterialParams& material, const LatticeDims& dims);
+// The largest edge-spring stiffness of a table: the scale of a penalty contact.
+double stiffest_edge(const SpringTable& table);
 // Recomputes node masses from the cells that use each node (after splits: total mass is
 // unchanged because every cell always hands 1/8 of its mass to each of its 8 corners).
 void recompute_masses(World& world);

@@ -23,10 +23,23 @@ void apply_material_preset(MaterialParams& m, const std::string& name) {
   if (name == "copy") {
     // short wood-pulp fibres, firm layers
   } else if (name == "coated") {
-    // copy paper with a coating: the bond under the top layer is weak, so it peels
+    // copy paper with a coating: denser and stiffer, and the bond under the top layer is
+    // weak, so it peels
+    base.E_md = 6500.0;
+    base.E_cd = 3000.0;
+    base.G_md_cd = 1700.0;
+    base.density = 1100.0;
     base.strain_surface = 0.05;
   } else if (name == "washi") {
-    // long kozo fibres: long blocks with large spread, strong inside, loose between
+    // long kozo fibres: a light, open sheet (soft), long blocks with large spread, strong
+    // inside, loose between
+    base.E_md = 3000.0;
+    base.E_cd = 1500.0;
+    base.E_zd = 15.0;
+    base.G_md_cd = 850.0;
+    base.G_md_zd = 50.0;
+    base.G_cd_zd = 40.0;
+    base.density = 450.0;
     base.fiber_length = 16.0;
     base.fiber_length_sigma = 0.6;
     base.block_width = 2;
@@ -43,7 +56,13 @@ void apply_material_preset(MaterialParams& m, const std::string& name) {
     base.strain_inter = 0.14;
     base.strain_layer = 0.25;
     base.strain_surface = 0.25;
-    base.k_edge = 1.4;
+    base.E_md = 7500.0;
+    base.E_cd = 3300.0;
+    base.E_zd = 40.0;
+    base.G_md_cd = 1800.0;
+    base.G_md_zd = 120.0;
+    base.G_cd_zd = 90.0;
+    base.density = 700.0;
   } else {
     std::string list;
     for (const char* n : material_preset_names()) list += std::string(list.empty() ? "" : ", ") + n;
@@ -73,7 +92,6 @@ void validate_sheet(const SheetParams& s) {
     require(s.cells[std::size_t(a)] >= 1, keys[a],
             "must be at least 1 (got " + std::to_string(s.cells[std::size_t(a)]) + ")");
   for (int a = 0; a < 3; ++a) positive(s.cell_size[std::size_t(a)], "sheet.cell_size");
-  positive(s.density, "sheet.density");
   const std::uint64_t bytes = estimate_memory_bytes(s);
   const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
   if (pages > 0 && page > 0) {
@@ -90,17 +108,22 @@ void validate_sheet(const SheetParams& s) {
 
 void validate_material(const MaterialParams& m) {
   require(m.grain == 'x' || m.grain == 'y', "material.grain", "must be \"x\" or \"y\"");
-  positive(m.k_edge, "material.k_edge");
-  positive(m.k_face, "material.k_face");
-  positive(m.k_body, "material.k_body");
+  positive(m.E_md, "material.E_md");
+  positive(m.E_cd, "material.E_cd");
+  positive(m.E_zd, "material.E_zd");
+  positive(m.G_md_cd, "material.G_md_cd");
+  positive(m.G_md_zd, "material.G_md_zd");
+  positive(m.G_cd_zd, "material.G_cd_zd");
+  positive(m.density, "material.density");
   non_negative(m.damping, "material.damping");
-  positive(m.grain_stiffness, "material.grain_stiffness");
   require(std::isfinite(m.fiber_length) && m.fiber_length >= 1.0, "material.fiber_length",
           "must be at least 1 cell");
   non_negative(m.fiber_length_sigma, "material.fiber_length_sigma");
   require(m.block_width >= 1, "material.block_width", "must be at least 1");
   require(m.block_depth >= 1, "material.block_depth", "must be at least 1");
   non_negative(m.block_stiffness, "material.block_stiffness");
+  require(m.block_stiffness < 1.0, "material.block_stiffness",
+          "is the share of the edge stiffness the block lattice carries: must be below 1");
   positive(m.strain_intra, "material.strain_intra");
   positive(m.strain_inter, "material.strain_inter");
   positive(m.strain_layer, "material.strain_layer");
@@ -108,6 +131,9 @@ void validate_material(const MaterialParams& m) {
   positive(m.grain_strength, "material.grain_strength");
   non_negative(m.strength_jitter, "material.strength_jitter");
   require(m.strength_jitter < 1.0, "material.strength_jitter", "must be below 1");
+  positive(m.tip_strength, "material.tip_strength");
+  require(m.tip_strength <= 1.0, "material.tip_strength", "must not be above 1");
+  require(m.bridge_time >= 0.0 && m.bridge_time <= 1000.0, "material.bridge_time", "must be in [0, 1000]");
 }
 
 // The indenter keys are checked whatever the load, so a typo never waits for a pierce run.

@@ -1,7 +1,9 @@
-// A scene: everything that defines a run. Plain data with defaults that are the paper's
-// experiment (90 × 90 × 5 cells, fibres along x, gripped left and right and pulled apart).
-// Units are the lattice's own: lengths in cell sizes, mass in cell masses, so the defaults
-// do not depend on a physical scale. tools/ reads it from TOML; embedders fill it in code.
+// A scene: everything that defines a run. Plain data with defaults that are the default pull
+// (a notched copy sheet of 120 × 80 × 3 thin cells, fibres along x, gripped left and right
+// and pulled apart; tools/scenes/paper.toml).
+// Units: the material in published units (MPa, kg/m³), everything else in the lattice's
+// (length 1 mm, time 1 µs, mass 1 mg: core/elasticity.hpp). tools/ reads a scene from TOML;
+// embedders fill it in code.
 #pragma once
 #include <array>
 #include <cstdint>
@@ -17,9 +19,8 @@ struct SceneError : std::runtime_error {
 };
 
 struct SheetParams {
-  std::array<int, 3> cells{90, 90, 5};             // sheet.cells: nx, ny, layers
-  std::array<double, 3> cell_size{1.0, 1.0, 1.0};  // sheet.cell_size: hx, hy, hz
-  double density = 1.0;                            // sheet.density: mass per unit volume
+  std::array<int, 3> cells{120, 80, 3};            // sheet.cells: nx, ny, layers
+  std::array<double, 3> cell_size{1.0, 1.0, 0.3};  // sheet.cell_size: hx, hy, hz, mm
 };
 
 // Material: elasticity (MODEL.md §4), fibre blocks (§3) and strength (§5). A preset fills
@@ -27,26 +28,34 @@ struct SheetParams {
 struct MaterialParams {
   std::string preset = "copy";   // copy | coated | washi | kraft
   char grain = 'x';              // machine direction: 'x' or 'y'
-  // Elasticity: stiffness of one cell's spring of each family, and damping along springs.
-  double k_edge = 1.0;
-  double k_face = 0.5;
-  double k_body = 0.5;
-  double damping = 0.2;          // c = damping * k (a relative rate, in 1/time): damps the
+  // Elasticity: paper's orthotropic constants, MPa (MD: along the grain, CD: across it, ZD:
+  // through the thickness); the springs follow from them and the cell's shape
+  // (core/elasticity.hpp). Sources: docs/calibration.md.
+  double E_md = 5500.0;
+  double E_cd = 2500.0;
+  double E_zd = 35.0;
+  double G_md_cd = 1500.0;       // in-plane shear
+  double G_md_zd = 100.0;        // transverse shears
+  double G_cd_zd = 80.0;
+  double density = 800.0;        // kg/m³: grammage / thickness (80 g/m² at 0.1 mm)
+  double damping = 0.2;          // c = damping * k (a relative rate, in 1/µs): damps the
                                  // stress waves each split sends out, so cracks stay sharp
-  double grain_stiffness = 1.5;  // edge stiffness along the grain / across it
   // Fibre blocks: staggered bricks of cells.
   double fiber_length = 4.0;        // mean block length along the grain, in cells
   double fiber_length_sigma = 0.4;  // sigma of the log-normal length distribution
   int block_width = 2;              // blocks are 1..block_width cells across the grain
   int block_depth = 2;              // and 1..block_depth layers deep
-  double block_stiffness = 0.3;     // coarse block-lattice spring stiffness, relative
+  double block_stiffness = 0.2;     // share of the edge stiffness the block lattice carries
   // Strength: the edge strain (|d| - L0) / L0 at which a bond opens.
   double strain_intra = 0.12;    // inside a block
   double strain_inter = 0.10;    // between blocks (fibre-to-fibre bonding)
-  double strain_layer = 0.20;    // between layers (different blocks)
-  double strain_surface = 0.20;  // between the top layer and the one below (coated: weak)
+  double strain_layer = 0.40;    // between layers (different blocks)
+  double strain_surface = 0.40;  // between the top layer and the one below (coated: weak)
   double grain_strength = 1.3;   // strength of faces normal to the grain / of the others
   double strength_jitter = 0.05; // relative spread of the per-block strength factor
+  double tip_strength = 0.3;     // a bond's strength at a crack tip, relative (fracture_pass.hpp)
+  double bridge_time = 4.0;      // how long fibres bridge a fresh crack, in bond failure times
+                                 // (fracture_pass.hpp; 0: no bridging)
 };
 
 struct LoadParams {
@@ -55,8 +64,8 @@ struct LoadParams {
                               // tear: two grips by a notch move apart out of plane (mode III)
   char axis = 'x';            // the pulling direction (tear: the axis the two grips sit on)
   int grip_cells = 2;         // each grip holds this many cell columns at its end
-  double speed = 0.05;        // each grip's speed, in cell sizes per unit time
-  double ramp_time = 20.0;    // grips accelerate linearly to `speed` over this time
+  double speed = 0.05;        // each grip's speed, mm/µs
+  double ramp_time = 20.0;    // grips accelerate linearly to `speed` over this time, µs
   int grip_margin = 4;        // bonds this many cells beyond each grip never break: the
                               // specimen's tabs, so it fails in its body and not at the clamp
   int notch = 4;              // a cut this many cells deep at the middle of one side edge,
@@ -66,12 +75,12 @@ struct LoadParams {
   double indenter_radius = 3.0;         // the ball's (the cone tip's) radius, in cells
   double indenter_angle = 30.0;         // cone: half-angle in degrees (0 < angle < 90)
   std::array<double, 2> indenter_at{0.5, 0.5};  // axis position, fractions of the sheet's x, y
-  double contact_stiffness = 10.0;      // penalty stiffness, relative to material.k_edge
+  double contact_stiffness = 10.0;      // penalty stiffness, relative to the stiffest edge spring
 };
 
 struct WorldParams {
-  std::array<double, 3> gravity{0.0, 0.0, 0.0};
-  double drag = 0.0;  // global velocity drag, 1/time (it resists the pull itself: a stress
+  std::array<double, 3> gravity{0.0, 0.0, 0.0};  // mm/µs² (Earth's: 9.81e-9)
+  double drag = 0.0;  // global velocity drag, 1/µs (it resists the pull itself: a stress
                       // gradient that makes sheets fail at the grips; keep it small)
 };
 

@@ -88,6 +88,7 @@ struct Topology {
   std::vector<float> cell_scale;                         // per-cell stiffness factor
   std::vector<std::uint32_t> cell_block;                 // the block each cell belongs to
   std::vector<float> face_strain;                        // 6 per cell: strain that opens the face's bond
+  std::vector<float> face_damage;                        // 6 per cell: how far the bond has failed, 0..1
 
   std::uint32_t node(std::uint32_t cell, int corner) const {
     return cell_nodes[std::size_t(cell) * 8 + std::size_t(corner)];

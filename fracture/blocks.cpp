@@ -132,9 +132,15 @@ void assign_bond_strengths(World& w) {
 
 namespace {
 
-// The block lattice: the 28 corner pairs of each block (same pattern as a cell's springs),
-// each end named by the block's corner cell and its corner. Stiffness scales like a bar of
-// the cell's cross-section: k_coarse = block_stiffness * k_fine * (L_fine / L_coarse).
+// The block lattice: the 12 edges of each block's box, each end named by the block's corner
+// cell and its corner. An edge along axis a stands for the bundle of the block's cells'
+// edges along a: with n_a cells along a and n_b · n_c across it, its stiffness is
+//   k = share / (1 - share) · k_fine · n_b · n_c / n_a,
+// where k_fine is one cell's fine edge (which keeps 1 - share of the edges' stiffness,
+// core/lattice_builder.cpp). Under a homogeneous strain the block's four edges along a then
+// store exactly `share` of the energy of all its cells' edges along a, so the block lattice
+// leaves the continuum moduli unchanged (core/elasticity.hpp) while it carries force across
+// the block in one step. A block one cell long along a has its edge on its corner cell's.
 void add_block_springs(World& w) {
   const LatticeDims& d = w.topo.dims;
   const MaterialParams& m = w.scene.material;
@@ -142,6 +148,7 @@ void add_block_springs(World& w) {
   cs = CoarseSprings{};
   if (m.block_stiffness <= 0.0) return;
   const double h[3] = {d.hx, d.hy, d.hz};
+  const double share = m.block_stiffness / (1.0 - m.block_stiffness);
   for (std::uint32_t b = 0; b < w.blocks.size(); ++b) {
     Block& blk = w.blocks[b];
     blk.first_spring = std::uint32_t(cs.size());
@@ -152,19 +159,13 @@ void add_block_springs(World& w) {
       for (int a = 0; a < 3; ++a) ijk[a] = corner_bit(q, a) ? blk.hi[std::size_t(a)] - 1 : blk.lo[std::size_t(a)];
       return d.cell_index(ijk[0], ijk[1], ijk[2]);
     };
-    for (int s = 0; s < kSpringsPerCell; ++s) {
+    for (int s = 0; s < kEdgesPerCell; ++s) {
       const SpringSlot& slot = kSpringSlots[std::size_t(s)];
-      // In a block one cell thin along some axis, corners on either side of that axis lie in
-      // the same cell: such a spring would only duplicate the cell's own spring.
-      if (corner_cell(slot.a) == corner_cell(slot.b)) continue;
-      double len2 = 0.0;
-      for (int a = 0; a < 3; ++a)
-        if (corner_bit(slot.a, a) != corner_bit(slot.b, a)) {
-          const double ext = (blk.hi[std::size_t(a)] - blk.lo[std::size_t(a)]) * h[a];
-          len2 += ext * ext;
-        }
-      const double len = std::sqrt(len2);
-      const double k = m.block_stiffness * w.springs.stiffness[std::size_t(s)] * w.springs.rest[std::size_t(s)] / len;
+      const int a = slot.axis;
+      const double n_along = blk.hi[std::size_t(a)] - blk.lo[std::size_t(a)];
+      const double n_across = double(cells) / n_along;
+      const double len = n_along * h[a];
+      const double k = share * w.springs.stiffness[std::size_t(s)] * n_across / n_along;
       cs.cell_a.push_back(corner_cell(slot.a));
       cs.cell_b.push_back(corner_cell(slot.b));
       cs.corner_a.push_back(slot.a);

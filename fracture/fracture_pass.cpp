@@ -6,7 +6,9 @@
 #include <cmath>
 #include <limits>
 
+#include "core/elasticity.hpp"
 #include "core/solver.hpp"
+#include "fracture/connectivity.hpp"
 #include "fracture/node_cells.hpp"
 #include "kernels/parallel.hpp"
 #include "kernels/spring.hpp"
@@ -36,6 +38,60 @@ float edge_strain(const World& w, std::uint32_t cell, int slot) {
 
 float face_strength(const World& w, std::uint32_t cell, int axis, int side) {
   return w.topo.face_strain[std::size_t(cell) * kFacesPerCell + std::size_t(2 * axis + side)];
+}
+
+// Marks the vertex of every node made since the last call: a vertex with one node (the
+// lattice's first node there has the vertex's index) cannot be cracked. Rebuilt from the
+// nodes when the scratch is new (or the world is another's), so it is state, not history.
+void mark_split_vertices(const World& w, FractureScratch& scratch) {
+  const std::size_t vertices = std::size_t(w.topo.dims.vertices()), count = w.nodes.count;
+  if (scratch.split_vertex.size() != vertices || scratch.marked_nodes > count) {
+    scratch.split_vertex.assign(vertices, 0);
+    scratch.marked_nodes = vertices;
+  }
+  for (std::size_t n = scratch.marked_nodes; n < count; ++n) scratch.split_vertex[w.nodes.vertex[n]] = 1;
+  scratch.marked_nodes = count;
+}
+
+// Whether the cells around lattice vertex (i, j, k) on the two sides of the plane normal to
+// `axis` use different nodes there: the sheet is cracked across that plane at the vertex.
+bool cracked_across(const World& w, const SplitVertices& split, int i, int j, int k, int axis) {
+  const LatticeDims& d = w.topo.dims;
+  if (i < 0 || j < 0 || i > d.nx || j > d.ny) return false;
+  if (split[std::size_t(d.vertex_index(i, j, k))] == 0) return false;  // one node: nothing to crack
+  for (int q = 0; q < kCornersPerCell; ++q) {
+    if (corner_bit(q, axis) != 0) continue;  // q: a cell on the low side; q | bit: its partner
+    int lo[3] = {i - 1 + corner_bit(q, 0), j - 1 + corner_bit(q, 1), k - 1 + corner_bit(q, 2)};
+    int hi[3] = {lo[0], lo[1], lo[2]};
+    hi[axis] += 1;
+    const int lim[3] = {d.nx, d.ny, d.nl};
+    bool inside = true;
+    for (int a = 0; a < 3; ++a) inside = inside && lo[a] >= 0 && hi[a] < lim[a];
+    if (!inside) continue;
+    // The vertex is corner (1 - bit) of a cell along each axis.
+    const int corner_lo = corner_of(1 - corner_bit(q, 0), 1 - corner_bit(q, 1), 1 - corner_bit(q, 2));
+    const int corner_hi = corner_lo & ~(1 << axis);
+    if (w.topo.node(d.cell_index(lo[0], lo[1], lo[2]), corner_lo) != w.topo.node(d.cell_index(hi[0], hi[1], hi[2]), corner_hi))
+      return true;
+  }
+  return false;
+}
+
+// A node is at the tip of a crack across `axis` (in plane) when the sheet is not cracked
+// across that plane at its vertex yet but is at a vertex next to it along the crack's path
+// (the other in-plane axis): the crack is about to reach it, and the bond there is judged at
+// tip_strength of the intact material's (fracture_pass.hpp). A crack's flanks are not tips.
+bool at_crack_tip(const World& w, const SplitVertices& split, std::uint32_t node, int axis) {
+  const auto v = w.topo.dims.vertex_ijk(w.nodes.vertex[node]);
+  if (cracked_across(w, split, v[0], v[1], v[2], axis)) return false;
+  const int di = axis == 1 ? 1 : 0, dj = axis == 0 ? 1 : 0;
+  return cracked_across(w, split, v[0] + di, v[1] + dj, v[2], axis) ||
+         cracked_across(w, split, v[0] - di, v[1] - dj, v[2], axis);
+}
+
+// In-plane bonds only: a delamination is judged by its own, full strength.
+float strength_factor(const World& w, const SplitVertices& split, std::uint32_t node, int axis) {
+  return axis < 2 && at_crack_tip(w, split, node, axis) ? float(w.scene.material.tip_strength) : 1.0f;
 }
 
 // The largest squared length d2 for which an edge of this slot cannot be a candidate when
@@ -105,14 +161,28 @@ float weakest_strength(const float* strength, std::size_t begin, std::size_t end
   return weakest;
 }
 
+// Whether edge `slot` of `cell`, at `strain`, exceeds the bond at either end, judged at the
+// strength factor of that end (tip_strength at a crack tip).
+bool exceeds_either_end(const World& w, const SplitVertices& split, std::uint32_t cell, int slot, float strain) {
+  const SpringSlot& sl = kSpringSlots[std::size_t(slot)];
+  const std::uint32_t end_node[2] = {w.topo.node(cell, sl.a), w.topo.node(cell, sl.b)};
+  for (int side = 0; side < 2; ++side)
+    if (strain > strength_factor(w, split, end_node[side], sl.axis) * face_strength(w, cell, sl.axis, side)) return true;
+  return false;
+}
+
 // The exact test for the edges of `cell` flagged in `over` (ascending slots): only it decides.
-void confirm(const World& w, std::uint32_t cell, unsigned over, std::vector<FractureCandidate>& out) {
+void confirm(const World& w, const SplitVertices& split, std::uint32_t cell, unsigned over,
+             std::vector<FractureCandidate>& out) {
+  const float tip = float(w.scene.material.tip_strength);
   for (; over != 0; over &= over - 1) {
     const int s = std::countr_zero(over);
     const int axis = kSpringSlots[std::size_t(s)].axis;
     const float weaker = std::min(face_strength(w, cell, axis, 0), face_strength(w, cell, axis, 1));
     const float strain = edge_strain(w, cell, s);
-    if (strain > weaker) out.push_back({strain / weaker, cell * kSpringsPerCell + std::uint32_t(s)});
+    // Between tip_strength and the full strength, only an edge ending at a crack tip counts.
+    if (strain > weaker || (strain > tip * weaker && exceeds_either_end(w, split, cell, s, strain)))
+      out.push_back({strain / weaker, cell * kSpringsPerCell + std::uint32_t(s)});
   }
 }
 
@@ -169,9 +239,11 @@ void run_edges_over_bound(const NodeStore& n, const std::uint32_t* corners, cons
 // compared by squared length against a bound valid for the whole chunk (no sqrt, no
 // division); only edges above it take the exact test, which alone decides. The filter is
 // conservative whichever path computes it, so the candidates never depend on the path.
-void detect(std::size_t begin, std::size_t end, const World& w, std::vector<FractureCandidate>& out) {
+void detect(std::size_t begin, std::size_t end, const World& w, const SplitVertices& split,
+            std::vector<FractureCandidate>& out) {
   out.clear();
-  const float weakest = weakest_strength(w.topo.face_strain.data(), begin, end);
+  // A bond at a crack tip opens at tip_strength of its strength: the chunk's bound uses that.
+  const float weakest = float(w.scene.material.tip_strength) * weakest_strength(w.topo.face_strain.data(), begin, end);
   float bound[16] = {};
   for (int s = 0; s < kEdgesPerCell; ++s) bound[s] = safe_squared_length(w.springs.rest[std::size_t(s)], weakest);
   std::size_t c = begin;
@@ -182,12 +254,12 @@ void detect(std::size_t begin, std::size_t end, const World& w, std::vector<Frac
       std::uint32_t over[8];
       run_edges_over_bound(w.nodes, corners, bound, over);
       for (std::uint32_t l = 0; l < 8; ++l)
-        if (over[l] != 0) confirm(w, std::uint32_t(c) + l, over[l], out);
+        if (over[l] != 0) confirm(w, split, std::uint32_t(c) + l, over[l], out);
       c += 8;
       continue;
     }
 #endif
-    confirm(w, std::uint32_t(c), cell_edges_over_bound(w, c, bound), out);
+    confirm(w, split, std::uint32_t(c), cell_edges_over_bound(w, c, bound), out);
     ++c;
   }
 }
@@ -250,21 +322,140 @@ void copy_node(World& w, std::uint32_t from, std::uint32_t to) {
 
 void set_mass(World& w, std::uint32_t node, int cells) {
   const LatticeDims& d = w.topo.dims;
-  const double m = w.scene.sheet.density * d.hx * d.hy * d.hz / 8.0 * cells;
+  const double m = cell_mass(w.scene.material, d) / 8.0 * cells;
   w.nodes.mass[node] = float(m);
   w.nodes.inv_mass[node] = float(1.0 / m);
 }
 
+// The edge slot of a cell that runs from corner q along axis a.
+constexpr std::array<std::array<int, 3>, 8> kEdgeSlotAt = [] {
+  std::array<std::array<int, 3>, 8> out{};
+  for (int q = 0; q < kCornersPerCell; ++q)
+    for (int a = 0; a < 3; ++a)
+      for (int s = 0; s < kEdgesPerCell; ++s) {
+        const SpringSlot& slot = kSpringSlots[std::size_t(s)];
+        if (slot.axis == a && (slot.a == q || slot.b == q)) out[std::size_t(q)][std::size_t(a)] = s;
+      }
+  return out;
+}();
+
+// How overloaded a node is along each axis: over the cells that use it, the mean of
+// (strain of the cell's edge along that axis at the node) / (the strength of the bond there).
+// Averaged over the node's cells, one spring's spike does not decide, and the axis with the
+// largest load is the direction in which the material around the node pulls apart.
+std::array<float, 3> node_overload(const World& w, std::uint32_t node) {
+  std::array<float, 3> sum{};
+  const NodeCells cells = cells_of_node(w, node);
+  for (int i = 0; i < cells.count; ++i) {
+    const CellCorner& cc = cells.items[std::size_t(i)];
+    for (int a = 0; a < 3; ++a) {
+      const float strength = face_strength(w, cc.cell, a, corner_bit(cc.corner, a));
+      if (strength < INFINITY) sum[std::size_t(a)] += edge_strain(w, cc.cell, kEdgeSlotAt[cc.corner][std::size_t(a)]) / strength;
+    }
+  }
+  for (float& v : sum) v /= float(std::max(cells.count, 1));
+  return sum;
+}
+
+// A node may open across `axis` only where that is its most overloaded axis and its mean
+// overload there exceeds its strength factor (1, or tip_strength at a crack tip): the split plane is then normal to the
+// direction in which the material around it pulls apart, so a crack tip opens ahead of
+// itself instead of splitting parallel to its own path, where the stress is lower.
+bool opens_across(const World& w, const SplitVertices& split, std::uint32_t node, int axis) {
+  const std::array<float, 3> load = node_overload(w, node);
+  const float mine = load[std::size_t(axis)];
+  return mine > strength_factor(w, split, node, axis) && mine >= load[0] && mine >= load[1] && mine >= load[2];
+}
+
+bool face_failed(const World& w, std::uint32_t cell, int axis, int side) {
+  return w.topo.face_damage[std::size_t(cell) * kFacesPerCell + std::size_t(2 * axis + side)] >= 1.0f;
+}
+
+// Step 2 of the header: every face over its strength gains dt / τ of damage, once.
+void accumulate_damage(World& w, FractureScratch& scratch) {
+  scratch.faces.clear();
+  for (const FractureCandidate& cand : scratch.all) {
+    const std::uint32_t cell = cand.id / kSpringsPerCell;
+    const int slot = int(cand.id % kSpringsPerCell), axis = kSpringSlots[std::size_t(slot)].axis;
+    const float strain = edge_strain(w, cell, slot);
+    const SpringSlot& sl = kSpringSlots[std::size_t(slot)];
+    const std::uint32_t end_node[2] = {w.topo.node(cell, sl.a), w.topo.node(cell, sl.b)};
+    for (int side = 0; side < 2; ++side)
+      if (strain > strength_factor(w, scratch.split_vertex, end_node[side], axis) * face_strength(w, cell, axis, side))
+        scratch.faces.push_back(cell * kFacesPerCell + std::uint32_t(2 * axis + side));
+  }
+  std::sort(scratch.faces.begin(), scratch.faces.end());
+  scratch.faces.erase(std::unique(scratch.faces.begin(), scratch.faces.end()), scratch.faces.end());
+  for (std::uint32_t f : scratch.faces) {
+    float& damage = w.topo.face_damage[f];
+    damage = std::min(1.0f, damage + float(w.dt / scratch.failure_time[(f % kFacesPerCell) / 2]));
+  }
+}
+
+// The cells using `node` that are joined to the lowest of them through faces still bonded
+// (faces_connected), as a mask over cells_of_node's order.
+unsigned bonded_group(const World& w, const NodeCells& cells) {
+  unsigned group = 1u, grown = 1u;
+  while (grown != 0) {
+    grown = 0;
+    for (int i = 0; i < cells.count; ++i) {
+      if ((group >> i) & 1u) continue;
+      for (int j = 0; j < cells.count; ++j) {
+        if (!((group >> j) & 1u)) continue;
+        const int diff = cells.items[std::size_t(i)].corner ^ cells.items[std::size_t(j)].corner;
+        if (std::popcount(unsigned(diff)) != 1) continue;  // not face neighbours around the node
+        const int axis = std::countr_zero(unsigned(diff));
+        // Cell j's face toward cell i: the node is on j's high face along axis when its corner bit is 1.
+        const int face = 2 * axis + corner_bit(cells.items[std::size_t(j)].corner, axis);
+        if (faces_connected(w, cells.items[std::size_t(j)].cell, face)) {
+          group |= 1u << i;
+          grown = 1;
+          break;
+        }
+      }
+    }
+  }
+  return group;
+}
+
+// A node that joins groups of cells with no bonded face between them is a point contact, not
+// a bond (MODEL.md §5: bonds are faces): each group that is not the lowest cell's gets a node
+// of its own. Without this, cells hinged at one corner form strands that bridge a tear and
+// whip about when it opens. No bond opens, so no split event is recorded.
+void separate_point_contacts(World& w, std::uint32_t node) {
+  for (;;) {
+    const NodeCells cells = cells_of_node(w, node);
+    const unsigned all = (1u << cells.count) - 1u;
+    const unsigned group = bonded_group(w, cells);
+    if (cells.count == 0 || group == all) return;
+    if (!separate_node(w, NodeId(node), all & ~group).valid()) return;
+  }
+}
+
+// After a split at `node`: point contacts may appear at any corner of the cells around it.
+void separate_point_contacts_near(World& w, std::uint32_t node) {
+  std::array<std::uint32_t, 64> seen{};
+  int n = 0;
+  for (const CellCorner& cc : cells_of_node(w, node))
+    for (int q = 0; q < kCornersPerCell; ++q) seen[std::size_t(n++)] = w.topo.node(cc.cell, q);
+  std::sort(seen.begin(), seen.begin() + n);
+  for (int i = 0; i < n; ++i)
+    if (i == 0 || seen[std::size_t(i)] != seen[std::size_t(i - 1)]) separate_point_contacts(w, seen[std::size_t(i)]);
+}
+
 // Tries to split the end of edge spring (cell, slot) chosen by the paper's rule; returns
 // whether a split happened.
-bool break_spring(World& w, std::uint32_t cell, int slot) {
+bool break_spring(World& w, FractureScratch& scratch, std::uint32_t cell, int slot) {
+  const SplitVertices& split = scratch.split_vertex;
   const SpringSlot& s = kSpringSlots[std::size_t(slot)];
   const int axis = s.axis;
   const float strain = edge_strain(w, cell, slot);
   std::uint32_t end_node[2] = {w.topo.node(cell, s.a), w.topo.node(cell, s.b)};
   bool eligible[2];
   for (int side = 0; side < 2; ++side)
-    eligible[side] = strain > face_strength(w, cell, axis, side) && shared_across(w, end_node[side], axis, side);
+    eligible[side] = strain > strength_factor(w, split, end_node[side], axis) * face_strength(w, cell, axis, side) &&
+                     face_failed(w, cell, axis, side) && shared_across(w, end_node[side], axis, side) &&
+                     opens_across(w, split, end_node[side], axis);
   int side;
   if (eligible[0] && eligible[1]) side = force_sum(w, end_node[1]) > force_sum(w, end_node[0]) ? 1 : 0;
   else if (eligible[0]) side = 0;
@@ -273,6 +464,9 @@ bool break_spring(World& w, std::uint32_t cell, int slot) {
   const NodeId fresh = split_node(w, NodeId(end_node[side]), axis, side);
   if (!fresh.valid()) return false;
   w.events.push_back({w.step + 1, end_node[side], fresh.value, std::uint8_t(axis), axis == 2, cell, std::uint8_t(slot)});
+  separate_point_contacts_near(w, end_node[side]);
+  separate_point_contacts_near(w, fresh.value);
+  mark_split_vertices(w, scratch);
   return true;
 }
 
@@ -314,11 +508,46 @@ NodeId separate_node(World& w, NodeId split, unsigned moving_mask) {
   return NodeId(fresh);
 }
 
+// Fibre bridging (step 0 of the header): for bridge_time bond failure times after a split,
+// the two nodes it made are joined by a dashpot, as fibres pulled out of the opening faces
+// are. Each pair's relative velocity relaxes by exp(-dt / τ) per step, exchanging equal and
+// opposite momentum, so momentum is kept and the energy the opened bond's springs release
+// is dissipated there instead of radiating as the wave that breaks its neighbours.
+void bridge_fresh_cracks(World& w, const FractureScratch& scratch) {
+  const double window = w.scene.material.bridge_time;
+  if (window <= 0.0 || w.events.empty()) return;
+  NodeStore& n = w.nodes;
+  const auto& tau_of = scratch.failure_time;
+  const double longest = window * std::max({tau_of[0], tau_of[1], tau_of[2]});
+  // Events are in step order: walk back from the newest until they are all too old.
+  for (auto e = w.events.rbegin(); e != w.events.rend(); ++e) {
+    const double age = double(w.step + 1 - e->step) * w.dt, tau = tau_of[e->axis];
+    if (age > longest) break;
+    if (age > window * tau) continue;
+    const std::uint32_t a = e->node, b = e->new_node;
+    if (n.grip[a] != 0 || n.grip[b] != 0) continue;
+    const double keep = std::exp(-w.dt / tau);
+    const double ma = n.mass[a], mb = n.mass[b], reduced = ma * mb / (ma + mb);
+    IntegratorScratch& st = w.scratch;  // the next step's first stage reads these copies
+    float* v[3][4] = {{&n.vx[a], &n.vx[b], &st.svx[a], &st.svx[b]},
+                      {&n.vy[a], &n.vy[b], &st.svy[a], &st.svy[b]},
+                      {&n.vz[a], &n.vz[b], &st.svz[a], &st.svz[b]}};
+    for (auto& axis : v) {
+      const double impulse = reduced * (1.0 - keep) * (double(*axis[0]) - double(*axis[1]));
+      *axis[2] = *axis[0] = float(*axis[0] - impulse / ma);
+      *axis[3] = *axis[1] = float(*axis[1] + impulse / mb);
+    }
+  }
+}
+
 std::size_t fracture_pass(World& w, FractureScratch& scratch) {
+  if (scratch.failure_time[0] <= 0.0) scratch.failure_time = bond_failure_time(w.scene.material, w.topo.dims);
+  bridge_fresh_cracks(w, scratch);
+  mark_split_vertices(w, scratch);
   const std::size_t cells = std::size_t(w.topo.dims.cells());
   scratch.per_chunk.resize(chunk_count(cells, kCellChunk));
   parallel_chunks(cells, kCellChunk, [&](std::size_t b, std::size_t e, std::size_t c) {
-    detect(b, e, w, scratch.per_chunk[c]);
+    detect(b, e, w, scratch.split_vertex, scratch.per_chunk[c]);
   });
   scratch.all.clear();
   for (const auto& part : scratch.per_chunk) scratch.all.insert(scratch.all.end(), part.begin(), part.end());
@@ -326,11 +555,12 @@ std::size_t fracture_pass(World& w, FractureScratch& scratch) {
   std::sort(scratch.all.begin(), scratch.all.end(), [](const FractureCandidate& a, const FractureCandidate& b) {
     return a.ratio != b.ratio ? a.ratio > b.ratio : a.id < b.id;
   });
+  accumulate_damage(w, scratch);
   const int cap = w.scene.run.max_splits_per_step;
   std::size_t splits = 0;
   for (const FractureCandidate& cand : scratch.all) {
     if (cap > 0 && splits >= std::size_t(cap)) break;
-    splits += break_spring(w, cand.id / kSpringsPerCell, int(cand.id % kSpringsPerCell));
+    splits += break_spring(w, scratch, cand.id / kSpringsPerCell, int(cand.id % kSpringsPerCell));
   }
   return splits;
 }

@@ -3,11 +3,14 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
+#include "core/elasticity.hpp"
 #include "core/invariants.hpp"
 #include "core/lattice_builder.hpp"
 #include "core/simulation.hpp"
+#include "core/timestep.hpp"
 #include "fracture/blocks.hpp"
 #include "fracture/fracture_pass.hpp"
 #include "fracture/metrics.hpp"
@@ -90,7 +93,7 @@ TEST_CASE("a split conserves mass and momentum and keeps every node in use", "[f
 TEST_CASE("the invariants hold after every fracture pass of a tearing run", "[fracture]") {
   Simulation sim(small_tear("copy", 20, 12, 2), {.threads = 2});
   std::size_t checked_with_splits = 0;
-  for (int i = 0; i < 1500 && checked_with_splits < 30; ++i) {
+  for (int i = 0; i < 3000 && checked_with_splits < 5; ++i) {
     const std::size_t before = sim.world().events.size();
     sim.step(1);
     if (sim.world().events.size() == before) continue;
@@ -99,14 +102,56 @@ TEST_CASE("the invariants hold after every fracture pass of a tearing run", "[fr
     REQUIRE(problems.empty());
     ++checked_with_splits;
   }
-  CHECK(checked_with_splits == 30);  // the run really tore
+  CHECK(checked_with_splits == 5);  // the run really tore
+}
+
+// Whether the sheet is cracked across the plane normal to `axis` at lattice vertex v: two
+// cells next to each other across that plane, both with a corner at v, use different nodes there.
+static bool plainly_cracked(const World& w, std::array<int, 3> v, int axis) {
+  const LatticeDims& d = w.topo.dims;
+  const int lim[3] = {d.nx, d.ny, d.nl};
+  for (int q = 0; q < 8; ++q) {  // the cell at v - 1 + bits(q) and its neighbour up along axis
+    if (corner_bit(q, axis) != 0) continue;
+    std::array<int, 3> lo{}, hi{};
+    bool inside = true;
+    for (int a = 0; a < 3; ++a) {
+      lo[std::size_t(a)] = v[std::size_t(a)] - 1 + corner_bit(q, a);
+      hi[std::size_t(a)] = lo[std::size_t(a)] + (a == axis ? 1 : 0);
+      inside = inside && lo[std::size_t(a)] >= 0 && hi[std::size_t(a)] < lim[a];
+    }
+    if (!inside) continue;
+    auto node_at_v = [&](const std::array<int, 3>& c) {
+      const std::uint32_t cell = std::uint32_t(d.cell_index(c[0], c[1], c[2]));
+      return w.topo.node(cell, corner_of(v[0] - c[0], v[1] - c[1], v[2] - c[2]));
+    };
+    if (node_at_v(lo) != node_at_v(hi)) return true;
+  }
+  return false;
+}
+
+// A crack tip for an in-plane axis: not cracked at v, cracked at a neighbour of v along the
+// crack's path (the other in-plane axis).
+static bool plainly_at_tip(const World& w, std::uint32_t node, int axis) {
+  if (axis == 2) return false;
+  auto v = w.topo.dims.vertex_ijk(w.nodes.vertex[node]);
+  if (plainly_cracked(w, {v[0], v[1], v[2]}, axis)) return false;
+  const int path = 1 - axis;
+  for (int step : {-1, 1}) {
+    std::array<int, 3> n = {v[0], v[1], v[2]};
+    n[std::size_t(path)] += step;
+    if (n[0] >= 0 && n[1] >= 0 && n[0] <= w.topo.dims.nx && n[1] <= w.topo.dims.ny && plainly_cracked(w, n, axis))
+      return true;
+  }
+  return false;
 }
 
 // The detection's candidates by their plain definition (fracture/fracture_pass.hpp, step 1):
-// every edge of every cell, its strain against the weaker bond of its axis, in the formulas'
-// own float operations, in the pass's order.
+// every edge of every cell whose strain exceeds the weaker bond of its axis, or exceeds
+// tip_strength times the bond at an end that lies at a crack tip, in the formulas' own
+// float operations, in the pass's order.
 static std::vector<FractureCandidate> plain_candidates(const World& w) {
   std::vector<FractureCandidate> out;
+  const float tip = float(w.scene.material.tip_strength);
   for (std::uint32_t c = 0; c < std::uint32_t(w.topo.dims.cells()); ++c)
     for (int s = 0; s < kEdgesPerCell; ++s) {
       const SpringSlot& slot = kSpringSlots[std::size_t(s)];
@@ -117,7 +162,10 @@ static std::vector<FractureCandidate> plain_candidates(const World& w) {
       const float strain = (std::sqrt(dx * dx + dy * dy + dz * dz) - rest) / rest;
       const float* face = w.topo.face_strain.data() + std::size_t(c) * kFacesPerCell + std::size_t(2 * slot.axis);
       const float weaker = std::min(face[0], face[1]);
-      if (strain > weaker) out.push_back({strain / weaker, c * std::uint32_t(kSpringsPerCell) + std::uint32_t(s)});
+      const bool at_tip = (plainly_at_tip(w, a, slot.axis) && strain > tip * face[0]) ||
+                          (plainly_at_tip(w, b, slot.axis) && strain > tip * face[1]);
+      if (strain > weaker || at_tip)
+        out.push_back({strain / weaker, c * std::uint32_t(kSpringsPerCell) + std::uint32_t(s)});
     }
   std::sort(out.begin(), out.end(), [](const FractureCandidate& x, const FractureCandidate& y) {
     return x.ratio != y.ratio ? x.ratio > y.ratio : x.id < y.id;
@@ -131,7 +179,7 @@ TEST_CASE("detection finds exactly the plain definition's candidates on a tearin
   // taken for regular when it is not reads the wrong corners and misses candidates.
   Simulation sim(small_tear("copy", 40, 12, 2), {.threads = 2});
   int compared = 0;
-  for (int i = 0; i < 1500 && compared < 20; ++i) {
+  for (int i = 0; i < 3000 && compared < 8; ++i) {
     const std::size_t before = sim.world().events.size();
     sim.step(1);
     if (sim.world().events.size() == before) continue;
@@ -148,7 +196,7 @@ TEST_CASE("detection finds exactly the plain definition's candidates on a tearin
     }
     ++compared;
   }
-  CHECK(compared == 20);  // states with candidates near split copies were compared
+  CHECK(compared == 8);  // states with candidates near split copies were compared
 }
 
 TEST_CASE("a two-block bar breaks at the block boundary, not inside a block", "[fracture]") {
@@ -224,14 +272,25 @@ TEST_CASE("diagonal springs never trigger a split", "[fracture]") {
     w.nodes.px[n] = float(x + shear * y);
     w.nodes.py[n] = float(squash * y);
   }
-  FractureScratch scratch;
-  CHECK(fracture_pass(w, scratch) == 0);
+  // A bond fails only after it has been over its strength for a while (fracture_pass.hpp):
+  // run the pass as many times as that takes and more.
+  w.dt = 0.5 * stable_dt_limit(w);
+  const std::array<double, 3> tau = bond_failure_time(w.scene.material, w.topo.dims);
+  const int passes = int(std::ceil(*std::max_element(tau.begin(), tau.end()) / w.dt)) + 2;
+  auto splits_over = [&](World& world) {
+    FractureScratch scratch;
+    std::size_t splits = 0;
+    for (int i = 0; i < passes; ++i) splits += fracture_pass(world, scratch);
+    return splits;
+  };
+  World stretched = w;
+  CHECK(splits_over(w) == 0);
   // Control: the same sheet stretched 30 % along x does split.
-  for (std::size_t n = 0; n < w.nodes.count; ++n) {
-    w.nodes.py[n] = float(w.nodes.py[n] / squash);
-    w.nodes.px[n] = float(1.3 * (w.nodes.px[n] - shear * w.nodes.py[n]));
+  for (std::size_t n = 0; n < stretched.nodes.count; ++n) {
+    stretched.nodes.py[n] = float(stretched.nodes.py[n] / squash);
+    stretched.nodes.px[n] = float(1.3 * (stretched.nodes.px[n] - shear * stretched.nodes.py[n]));
   }
-  CHECK(fracture_pass(w, scratch) > 0);
+  CHECK(splits_over(stretched) > 0);
 }
 
 TEST_CASE("pulling along the grain needs a clearly higher peak force than across it", "[fracture][material]") {

@@ -9,6 +9,7 @@
 #include <tuple>
 
 #include "core/checkpoint.hpp"
+#include "core/elasticity.hpp"
 #include "core/invariants.hpp"
 #include "core/simulation.hpp"
 #include "fracture/lines.hpp"
@@ -79,19 +80,36 @@ Scene pull_scene() {
   Scene s = standard::small("copy");
   s.sheet.cells = {40, 40, 3};
   s.load.notch = 4;
-  s.load.speed = 0.15;
+  // About the default pull's strain rate (2 x speed / width ~ 1e-3 per µs). Pulled 8x faster,
+  // the sheet is loaded faster than a crack can relieve it, and a band of bonds fails at once.
+  s.load.speed = 0.02;
   return s;
 }
 
-// Steps until the sheet is in two pieces (or `max_steps`); returns the steps taken.
+// Steps until the sheet is in two pieces that are not fragments (or `max_steps`); returns
+// the steps taken.
 int tear_apart(Simulation& sim, int max_steps) {
   int steps = 0;
-  while (steps < max_steps && measure(sim.world()).pieces < 2) {
+  auto parts = [&] {
+    const Metrics m = measure(sim.world());
+    return m.pieces - m.fragments;
+  };
+  while (steps < max_steps && parts() < 2) {
     sim.step(50);
     steps += 50;
   }
   return steps;
 }
+
+// In two: two pieces besides fragments, which hold under 0.5 % of the sheet. The staircase
+// that stands for a slanted line on the grid may cut a chip, a cell column, out at a step.
+struct InTwo : Catch::MatcherBase<Metrics> {
+  bool match(const Metrics& m) const override {
+    return m.pieces - m.fragments == 2 && m.fragment_fraction < 5e-3;
+  }
+  std::string describe() const override { return "is in two pieces besides fragments under 0.5 % of the cells"; }
+};
+InTwo in_two() { return {}; }
 
 }  // namespace
 
@@ -179,7 +197,7 @@ TEST_CASE("a cut polyline separates the sheet into two pieces before the first s
   CHECK(whole.world().events.empty());  // part of the initial sheet, not a tear
   double mass = 0.0;
   for (std::size_t n = 0; n < whole.world().nodes.count; ++n) mass += whole.world().nodes.mass[n];
-  CHECK(mass == Approx(20.0 * 12.0 * 2.0));
+  CHECK(mass == Approx(20.0 * 12.0 * 2.0 * cell_mass(s.material, whole.world().topo.dims)));
   // Stopping short of the far edge leaves one piece; a cut through the top layer only
   // separates nothing either.
   s.lines[0].points.back() = {12.0, 10.0};
@@ -198,6 +216,10 @@ TEST_CASE("a scored line makes the tear follow it (most splits within a cell of 
   Scene control = pull_scene();
   Scene scored = control;
   scored.lines = {make_line("score", path)};
+  // A deep score: below tip_strength, so its bonds give way before the tear running from the
+  // notch reaches them. A shallow one (the default 0.5) only guides a tear already on it: a
+  // running crack opens at its tip (fracture_pass.hpp) and cannot turn onto a slanted line.
+  scored.lines[0].strength = 0.2;
   Simulation with_line(scored, {.threads = 2}), without(control, {.threads = 2});
   const int steps = tear_apart(with_line, 4000);
   tear_apart(without, 4000);
@@ -206,7 +228,7 @@ TEST_CASE("a scored line makes the tear follow it (most splits within a cell of 
   const double near_control = fraction_near(without.world(), path, n_control);
   INFO("steps " << steps << ": " << n_line << " splits, " << near_line << " near the line; control "
                 << n_control << " splits, " << near_control << " near it");
-  CHECK(measure(with_line.world()).pieces == 2);
+  CHECK_THAT(measure(with_line.world()), in_two());
   CHECK(n_line >= 30);
   CHECK(near_line >= 0.8);
   CHECK(near_control < 0.5);
@@ -230,7 +252,7 @@ TEST_CASE("a perforated line holds at first and tears along its holes", "[lines]
   std::size_t n = 0;
   const double near = fraction_near(sim.world(), path, n);
   INFO("steps " << steps << ": " << n << " splits, " << near << " near the line");
-  CHECK(measure(sim.world()).pieces == 2);
+  CHECK_THAT(measure(sim.world()), in_two());
   CHECK(n >= 20);
   CHECK(near >= 0.8);
   // duty 0 leaves no holes, duty 1 cuts the line through.

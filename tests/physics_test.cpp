@@ -28,6 +28,7 @@ constexpr double kEpsF = std::numeric_limits<float>::epsilon();  // 2^-23
 pt::Scene free_scene(std::array<int, 3> cells) {
   pt::Scene s;
   s.sheet.cells = cells;
+  s.sheet.cell_size = {1.0, 1.0, 1.0};
   s.load.kind = "none";
   s.world.drag = 0.0;
   s.material.damping = 0.0;
@@ -39,7 +40,7 @@ pt::Scene free_scene(std::array<int, 3> cells) {
 //
 // Scale a free cell about its centre by (1 + a): every spring keeps its direction and is
 // stretched by a L_s, so its force is k_s L_s a along itself, linear in a. On a cube with
-// the same stiffness on its 12 edges (grain_stiffness = 1) the cube's symmetry makes the
+// the same stiffness on its 12 edges (isotropic moduli) the cube's symmetry makes the
 // total force on corner q equal to -a K r_q with one K for all corners, r_q the corner's
 // offset from the centre. Then a(t) obeys m a'' = -K a exactly — at any amplitude — and
 // energy gives  omega^2 = Σ_s k_s L_s^2 / Σ_q m_q |r_q|^2.  The test checks that premise on
@@ -54,7 +55,9 @@ struct Breathing {
 
 Breathing breathing_cell(double amplitude, double dt) {
   pt::Scene s = free_scene({1, 1, 1});
-  s.material.grain_stiffness = 1.0;  // isotropic edges: otherwise uniform scaling is no mode
+  // Isotropic moduli give the same stiffness on all 12 edges: otherwise uniform scaling is no mode.
+  s.material.E_cd = s.material.E_zd = s.material.E_md;
+  s.material.G_md_zd = s.material.G_cd_zd = s.material.G_md_cd;
   Breathing b;
   b.amplitude = amplitude;
   pt::build_lattice(s, b.world);

@@ -29,6 +29,7 @@ namespace {
 World make_sheet(int nx, int ny, int nl) {
   Scene scene;
   scene.sheet.cells = {nx, ny, nl};
+  scene.sheet.cell_size = {1.0, 1.0, 1.0};  // cubes: the checks below count in whole cells
   World w;
   build_lattice(scene, w);
   return w;

@@ -92,11 +92,11 @@ TEST_CASE("every key type is read from a scene file", "[scene]") {
 [sheet]
 cells = [12, 10, 3]
 cell_size = [1, 1.5, 0.5]   # integers are accepted as numbers
-density = 2
 
 [material]
 grain = "y"
-k_edge = 1.25
+density = 650
+E_md = 4125.5
 block_width = 3
 
 [load]
@@ -119,9 +119,9 @@ max_splits_per_step = 5
   const pt::Scene& s = f.scene;
   CHECK(s.sheet.cells == std::array<int, 3>{12, 10, 3});
   CHECK(s.sheet.cell_size == std::array<double, 3>{1.0, 1.5, 0.5});
-  CHECK(s.sheet.density == 2.0);
+  CHECK(s.material.density == 650.0);
   CHECK(s.material.grain == 'y');
-  CHECK(s.material.k_edge == 1.25);
+  CHECK(s.material.E_md == 4125.5);
   CHECK(s.material.block_width == 3);
   CHECK(s.load.kind == "none");
   CHECK(s.load.axis == 'y');
@@ -136,7 +136,7 @@ max_splits_per_step = 5
   CHECK(s.run.max_splits_per_step == 5);
   CHECK(f.path == "test.toml");
   // Keys left out keep their defaults.
-  CHECK(s.material.k_face == pt::MaterialParams{}.k_face);
+  CHECK(s.material.E_cd == pt::MaterialParams{}.E_cd);
 }
 
 TEST_CASE("run.dt is a number or the word auto", "[scene]") {
@@ -149,11 +149,11 @@ TEST_CASE("run.dt is a number or the word auto", "[scene]") {
 TEST_CASE("material.preset applies first and the other material keys override it", "[scene]") {
   const pt::MaterialParams washi = preset("washi");
   REQUIRE(washi.fiber_length != pt::MaterialParams{}.fiber_length);  // the test needs a change
-  for (const char* text : {"[material]\nk_edge = 3.5\npreset = \"washi\"\n",
-                           "[material]\npreset = \"washi\"\nk_edge = 3.5\n"}) {
+  for (const char* text : {"[material]\nE_zd = 3.5\npreset = \"washi\"\n",
+                           "[material]\npreset = \"washi\"\nE_zd = 3.5\n"}) {
     const pt::MaterialParams m = parse(text).scene.material;
     CHECK(m.preset == "washi");
-    CHECK(m.k_edge == 3.5);                        // the key wins over the preset
+    CHECK(m.E_zd == 3.5);                          // the key wins over the preset
     CHECK(m.fiber_length == washi.fiber_length);   // the rest comes from the preset
     CHECK(m.strain_inter == washi.strain_inter);
   }
@@ -174,7 +174,7 @@ TEST_CASE("set overrides are TOML values and bare words are strings", "[scene]")
   const std::vector<io::SetOverride> overrides = {
       io::parse_set_argument("sheet.cells=[30, 20,4]"),
       io::parse_set_argument("run.steps=200"),
-      io::parse_set_argument("sheet.density=2.5e-1"),
+      io::parse_set_argument("material.density=2.5e2"),
       io::parse_set_argument("material.grain=y"),
       io::parse_set_argument("material.preset = kraft"),
       io::parse_set_argument("load.kind=\"none\""),
@@ -185,7 +185,7 @@ TEST_CASE("set overrides are TOML values and bare words are strings", "[scene]")
   const pt::Scene s = parse("run.dt = 0.001\nrun.steps = 5\n", overrides).scene;
   CHECK(s.sheet.cells == std::array<int, 3>{30, 20, 4});
   CHECK(s.run.steps == 200);  // the command line wins over the file
-  CHECK(s.sheet.density == 0.25);
+  CHECK(s.material.density == 250.0);
   CHECK(s.material.grain == 'y');
   CHECK(s.material.preset == "kraft");
   CHECK(s.material.fiber_length == preset("kraft").fiber_length);
@@ -216,7 +216,7 @@ TEST_CASE("unknown keys are refused with the nearest known key", "[scene]") {
                  Contains("did you mean 'sheet.cells'"));
   CHECK_THAT(error_of("[rnu]\nsteps = 5\n"), Contains("did you mean 'run.steps'"));
   CHECK_THAT(error_of("steps = 5\n"), Contains("did you mean 'run.steps'"));
-  CHECK_THAT(error_of("[material]\nkedge = 2.0\n"), Contains("did you mean 'material.k_edge'"));
+  CHECK_THAT(error_of("[material]\nE_mdd = 2.0\n"), Contains("did you mean 'material.E_md'"));
   CHECK_THAT(error_of("[rendr]\nwidth = 640\n"), Contains("did you mean 'render.width'"));
   CHECK_THAT(error_of("[physics]\ngravity = 1\n"), Contains("did you mean 'world.gravity'"));
   CHECK_THAT(error_of("[physics]\nmass = 1\n"),
@@ -225,14 +225,14 @@ TEST_CASE("unknown keys are refused with the nearest known key", "[scene]") {
 }
 
 TEST_CASE("a TOML syntax error gives file and line and column", "[scene]") {
-  const std::string message = error_of("[sheet]\ndensity = 1.0\ncells = [6, 6, 2\n");
+  const std::string message = error_of("[material]\ndensity = 800.0\ncells = [6, 6, 2\n");
   CHECK_THAT(message, Contains("test.toml:3:") && Contains("syntax error"));
   CHECK_THAT(error_of("[run]\nsteps = 10\nsteps = 20\n"), Contains("test.toml:3:"));
 }
 
 TEST_CASE("a value of the wrong type names the key and the expected type", "[scene]") {
-  CHECK_THAT(error_of("[sheet]\ndensity = \"heavy\"\n"),
-             Contains("test.toml:2:") && Contains("sheet.density") &&
+  CHECK_THAT(error_of("[material]\ndensity = \"heavy\"\n"),
+             Contains("test.toml:2:") && Contains("material.density") &&
                  Contains("expected a number, got a string (\"heavy\")"));
   CHECK_THAT(error_of("sheet.cells = [6, 6]"), Contains("sheet.cells") && Contains("array of 3 integers"));
   CHECK_THAT(error_of("sheet.cells = [6, 6.5, 2]"),
@@ -245,8 +245,8 @@ TEST_CASE("a value of the wrong type names the key and the expected type", "[sce
 }
 
 TEST_CASE("NaN and infinity are refused", "[scene]") {
-  CHECK_THAT(error_of("material.k_edge = nan"), Contains("material.k_edge") && Contains("finite"));
-  CHECK_THAT(error_of("sheet.density = inf"), Contains("sheet.density") && Contains("finite"));
+  CHECK_THAT(error_of("material.E_md = nan"), Contains("material.E_md") && Contains("finite"));
+  CHECK_THAT(error_of("material.density = inf"), Contains("material.density") && Contains("finite"));
   CHECK_THAT(error_of("world.gravity = [0.0, -inf, 0.0]"),
              Contains("world.gravity[1]") && Contains("finite"));
 }
@@ -306,7 +306,7 @@ TEST_CASE("scene_to_toml writes a scene that reads back the same", "[scene]") {
   s.sheet.cells = {14, 9, 3};
   s.sheet.cell_size = {1.0, 0.75, 0.5};
   s.material.grain = 'y';
-  s.material.k_body = 0.625;
+  s.material.G_md_zd = 62.5;
   s.load.kind = "none";
   s.world.gravity = {0.0, 0.0, -1.0};
   s.run.dt = 0.003;

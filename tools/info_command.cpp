@@ -3,8 +3,11 @@
 #include <sys/resource.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
+#include <string>
 
+#include "core/elasticity.hpp"
 #include "tools/commands.hpp"
 #include "tools/progress.hpp"
 
@@ -30,7 +33,7 @@ std::size_t world_bytes(const World& w) {
   total += bytes_of(n.vertex) + bytes_of(n.grip);
   const Topology& t = w.topo;
   total += bytes_of(t.cell_nodes) + bytes_of(t.cell_scale) + bytes_of(t.cell_block) +
-           bytes_of(t.face_strain);
+           bytes_of(t.face_strain) + bytes_of(t.face_damage);
   for (const auto& colour : t.colour_cells) total += bytes_of(colour);
   const CoarseSprings& c = w.coarse;
   total += bytes_of(c.cell_a) + bytes_of(c.cell_b) + bytes_of(c.corner_a) + bytes_of(c.corner_b) +
@@ -82,9 +85,34 @@ void print_sizes(const io::SceneFile& file, const Simulation& sim) {
               double(world_bytes(w)) / (1024.0 * 1024.0), peak_rss_mib());
 }
 
+// The continuum moduli the springs give against the material's, in MPa (core/elasticity.hpp).
+void print_moduli(const World& w) {
+  const Moduli target = target_moduli(w.scene.material);
+  const SpringFit fit = fit_springs(target, w.topo.dims);
+  const char* young[3] = {"E_x", "E_y", "E_z"};
+  const char* shear[3] = {"G_yz", "G_xz", "G_xy"};
+  std::printf("moduli (MPa):  ");
+  for (int a = 0; a < 3; ++a)
+    std::printf(" %s %.4g,", young[a], fit.achieved.young[std::size_t(a)] * kMpaPerStressUnit);
+  for (int c = 2; c >= 0; --c)
+    std::printf("%s %s %.4g%s%s", c == 2 ? "" : ",", shear[c], fit.achieved.shear[std::size_t(c)] * kMpaPerStressUnit,
+                fit.shear_limited[std::size_t(c)] ? " (lattice limit; target " : "",
+                fit.shear_limited[std::size_t(c)]
+                    ? (std::to_string(int(std::lround(target.shear[std::size_t(c)] * kMpaPerStressUnit))) + ")").c_str()
+                    : "");
+  std::printf("\n");
+}
+
+// The stable step of cubes with the same in-plane size: what flat cells are measured against.
+double cube_stable_dt(const Scene& s) {
+  Scene cubes = s;
+  cubes.sheet.cell_size[2] = std::sqrt(s.sheet.cell_size[0] * s.sheet.cell_size[1]);
+  return Simulation::stable_dt_limit(cubes);
+}
+
 void print_timing(const Scene& s, const Simulation& sim, double stable, int threads,
                   const StepTiming& timing) {
-  std::printf("stable dt:      %.6g\n", stable);
+  std::printf("stable dt:      %.6g (cubes of the same in-plane size: %.6g)\n", stable, cube_stable_dt(s));
   if (s.run.dt == 0.0)
     std::printf("dt used:        %.6g (auto: %g x stable limit)\n", sim.dt(), s.run.dt_safety);
   else
@@ -105,6 +133,7 @@ int info_command(const SceneOptions& options) {
     io::SceneFile file = resolve_scene(options);
     Simulation sim = make_simulation(file, options.threads);
     print_sizes(file, sim);
+    print_moduli(sim.world());
     double stable = Simulation::stable_dt_limit(file.scene);
     StepTiming timing = time_steps(sim);
     print_timing(file.scene, sim, stable, resolved_threads(options.threads), timing);

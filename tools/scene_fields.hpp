@@ -23,15 +23,17 @@ template <class SceneT, class Visitor>
 void visit_scene_fields(SceneT& s, Visitor&& visit) {
   visit("sheet.cells", s.sheet.cells);
   visit("sheet.cell_size", s.sheet.cell_size);
-  visit("sheet.density", s.sheet.density);
 
   visit("material.preset", s.material.preset);
   visit("material.grain", s.material.grain);
-  visit("material.k_edge", s.material.k_edge);
-  visit("material.k_face", s.material.k_face);
-  visit("material.k_body", s.material.k_body);
+  visit("material.E_md", s.material.E_md);
+  visit("material.E_cd", s.material.E_cd);
+  visit("material.E_zd", s.material.E_zd);
+  visit("material.G_md_cd", s.material.G_md_cd);
+  visit("material.G_md_zd", s.material.G_md_zd);
+  visit("material.G_cd_zd", s.material.G_cd_zd);
+  visit("material.density", s.material.density);
   visit("material.damping", s.material.damping);
-  visit("material.grain_stiffness", s.material.grain_stiffness);
   visit("material.fiber_length", s.material.fiber_length);
   visit("material.fiber_length_sigma", s.material.fiber_length_sigma);
   visit("material.block_width", s.material.block_width);
@@ -43,6 +45,8 @@ void visit_scene_fields(SceneT& s, Visitor&& visit) {
   visit("material.strain_surface", s.material.strain_surface);
   visit("material.grain_strength", s.material.grain_strength);
   visit("material.strength_jitter", s.material.strength_jitter);
+  visit("material.tip_strength", s.material.tip_strength);
+  visit("material.bridge_time", s.material.bridge_time);
 
   visit("load.kind", s.load.kind);
   visit("load.axis", s.load.axis);

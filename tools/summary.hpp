@@ -14,7 +14,7 @@
 
 namespace papertear::io {
 
-inline constexpr int kSummarySchemaVersion = 1;
+inline constexpr int kSummarySchemaVersion = 2;
 
 // What the run record does not know: how it was set up.
 struct RunSettings {
