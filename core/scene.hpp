@@ -54,7 +54,7 @@ struct MaterialParams {
   double grain_strength = 1.3;   // strength of faces normal to the grain / of the others
   double strength_jitter = 0.05; // relative spread of the per-block strength factor
   double tip_strength = 0.3;     // a bond's strength at a crack tip, relative (fracture_pass.hpp)
-  double bridge_time = 4.0;      // how long fibres bridge a fresh crack, in bond failure times
+  double bridge_time = 20.0;     // how long fibres bridge a fresh crack, in bond failure times
                                  // (fracture_pass.hpp; 0: no bridging)
 };
 
