@@ -462,6 +462,52 @@ TEST_CASE("a frame has the requested size and shows the sheet over the backgroun
   CHECK(sheet_pixels > frame.width * frame.height / 5);
 }
 
+// The ray tracer leaves rays whose pixels cannot see the sheet's bounding box out of its
+// query; a lane left out must read as a miss whatever Embree wrote into it (it once drew a
+// phantom line of paper along the culled rectangle's edge).
+TEST_CASE("nothing is drawn outside the sheet's image", "[render]") {
+  const World w = make_sheet(40, 24, 3);
+  RenderSettings s = small_frame(320, 192);
+  s.samples = 1;
+  s.fray = false;
+  Renderer renderer(s);
+  const Camera camera = renderer.camera_for(w);
+  const Image frame = renderer.draw(w, camera);
+  // The image of the sheet's box (the nodes' extent and half a cell more), in pixels.
+  std::array<float, 3> lo, hi;
+  lo.fill(std::numeric_limits<float>::max());
+  hi.fill(-std::numeric_limits<float>::max());
+  for (std::size_t n = 0; n < w.nodes.count; ++n) {
+    const std::array<float, 3> p{w.nodes.px[n], w.nodes.py[n], w.nodes.pz[n]};
+    for (std::size_t k = 0; k < 3; ++k) lo[k] = std::min(lo[k], p[k] - 0.5f), hi[k] = std::max(hi[k], p[k] + 0.5f);
+  }
+  const auto dot = [](const std::array<float, 3>& a, const std::array<float, 3>& b) {
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+  };
+  float left = 1e9f, right = -1e9f, top = 1e9f, bottom = -1e9f;
+  for (int c = 0; c < 8; ++c) {
+    const std::array<float, 3> d{(c & 1 ? hi[0] : lo[0]) - camera.position[0], (c & 2 ? hi[1] : lo[1]) - camera.position[1],
+                                 (c & 4 ? hi[2] : lo[2]) - camera.position[2]};
+    const float depth = dot(d, camera.forward);
+    const float x = 0.5f * float(s.width) * (dot(d, camera.right) / (depth * camera.tan_half_fov_y * camera.aspect) + 1.0f);
+    const float y = 0.5f * float(s.height) * (1.0f - dot(d, camera.up) / (depth * camera.tan_half_fov_y));
+    left = std::min(left, x), right = std::max(right, x), top = std::min(top, y), bottom = std::max(bottom, y);
+  }
+  const auto& bg = renderer.settings().background;
+  int drawn_outside = 0, drawn_inside = 0;
+  for (int y = 0; y < frame.height; ++y)
+    for (int x = 0; x < frame.width; ++x) {
+      const std::uint8_t* p = frame.pixel(x, y);
+      bool background = true;
+      for (int c = 0; c < 3; ++c)
+        background = background && std::abs(int(p[c]) - int(std::lround(255 * bg[std::size_t(c)]))) <= 2;
+      const bool outside = x < left - 1 || x > right + 1 || y < top - 1 || y > bottom + 1;
+      (outside ? drawn_outside : drawn_inside) += !background;
+    }
+  CHECK(drawn_inside > frame.width * frame.height / 5);
+  CHECK(drawn_outside == 0);
+}
+
 TEST_CASE("the gap of a torn sheet shows the background", "[render]") {
   const int nx = 20, ny = 10, nl = 3;
   const float gap = 3.0f;

@@ -352,7 +352,7 @@ class FrameTracer {
     Packet skin;
     for (int i = 0; i < rays.count; ++i)
       if (pixels_[kSkinsView].contains(rays.x[std::size_t(i)], rays.y[std::size_t(i)]))
-        skin.add(i, origin, rays.dir[std::size_t(i)], 0.0f, nearest.rh.ray.tfar[i]);
+        skin.add(i, origin, rays.dir[std::size_t(i)], 0.0f, nearest.valid[i] != 0 ? nearest.rh.ray.tfar[i] : kFar);
     if (skin.any) skin.occluded(scenes_[kSkinsView].scene, skins.ctx);
     Surfaces seen;
     for (int i = 0; i < rays.count; ++i) {
@@ -502,7 +502,9 @@ class FrameTracer {
       next = h.t + eps_;
     }
     if (crossed == kMaxLayersCrossed) return;
-    if (nearest.rh.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID) {
+    // A lane left out of the query misses: Embree may write hit fields of inactive lanes
+    // (seen as a phantom line of paper along the culled rectangle's edge), so they are not read.
+    if (nearest.valid[i] == 0 || nearest.rh.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID) {
       background(throughput * look_.background);
       return;
     }
