@@ -17,6 +17,8 @@
 
 #include "core/lattice_builder.hpp"
 #include "core/scene.hpp"
+#include "core/contact.hpp"
+#include "tools/render/indenter_mesh.hpp"
 #include "tools/render/render.hpp"
 #include "tools/render/peel.hpp"
 #include "tools/render/quads.hpp"
@@ -724,4 +726,63 @@ TEST_CASE("a print image that cannot be read is reported by name", "[render]") {
   RenderSettings s = small_frame(8, 8);
   s.print.image = "/nonexistent/poster.png";
   CHECK_THROWS_WITH(Renderer(s), Catch::Contains("print.image") && Catch::Contains("/nonexistent/poster.png"));
+}
+
+TEST_CASE("the pierce scene's indenter is drawn where it is: closed and facing out", "[render]") {
+  Scene scene;
+  scene.sheet.cells = {20, 20, 3};
+  World w;
+  build_lattice(scene, w);
+  SurfaceMesh sheet = build_surface_mesh(w);
+  const std::size_t sheet_vertices = sheet.vertex_count(), sheet_triangles = sheet.triangle_count();
+  append_indenter(w, sheet);  // a pull: nothing to draw
+  CHECK(sheet.vertex_count() == sheet_vertices);
+  CHECK(sheet.triangle_count() == sheet_triangles);
+
+  for (const char* shape : {"cone", "sphere"}) {
+    INFO(shape);
+    scene.load.kind = "pierce";
+    scene.load.indenter = shape;
+    World p;
+    build_lattice(scene, p);
+    p.time = 40.0;
+    SurfaceMesh mesh = build_surface_mesh(p);
+    const std::size_t first_vertex = mesh.vertex_count(), first_triangle = mesh.triangle_count();
+    append_indenter(p, mesh);
+    REQUIRE(mesh.triangle_count() > first_triangle);
+    const Indenter ind = *make_indenter(p);
+    const IndenterPose pose = indenter_pose(ind, p.time);
+    // The lowest point is the bottom of the tip ball.
+    float lowest = std::numeric_limits<float>::max();
+    for (std::size_t v = first_vertex; v < mesh.vertex_count(); ++v) lowest = std::min(lowest, mesh.position[v][2]);
+    CHECK(lowest == Approx(pose.cz - ind.radius).margin(1e-4));
+    // Closed: every edge (by position) is shared by two of its triangles, in opposite
+    // directions; outward: each triangle faces away from the axis point at its height, or
+    // from the ball's centre below it, or up on the flat top.
+    std::map<std::array<float, 6>, int> edges;
+    int inward = 0;
+    for (std::size_t t = first_triangle; t < mesh.triangle_count(); ++t) {
+      const auto& tri = mesh.triangles[t];
+      std::array<std::array<float, 3>, 3> q{mesh.position[tri[0]], mesh.position[tri[1]], mesh.position[tri[2]]};
+      for (int e = 0; e < 3; ++e) {
+        const auto& a = q[std::size_t(e)];
+        const auto& b = q[std::size_t((e + 1) % 3)];
+        edges[{a[0], a[1], a[2], b[0], b[1], b[2]}] += 1;
+        edges[{b[0], b[1], b[2], a[0], a[1], a[2]}] -= 1;
+      }
+      const std::array<float, 3> e1{q[1][0] - q[0][0], q[1][1] - q[0][1], q[1][2] - q[0][2]};
+      const std::array<float, 3> e2{q[2][0] - q[0][0], q[2][1] - q[0][1], q[2][2] - q[0][2]};
+      const std::array<float, 3> n{e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+      const float cz = (q[0][2] + q[1][2] + q[2][2]) / 3.0f;
+      const std::array<float, 3> from{(q[0][0] + q[1][0] + q[2][0]) / 3.0f - pose.cx,
+                                      (q[0][1] + q[1][1] + q[2][1]) / 3.0f - pose.cy, std::min(0.0f, cz - pose.cz)};
+      const float facing = n[0] * from[0] + n[1] * from[1] + n[2] * from[2];
+      const bool flat_top = n[0] == 0.0f && n[1] == 0.0f;
+      inward += flat_top ? n[2] < 0.0f : facing < 0.0f;
+    }
+    CHECK(inward == 0);
+    int open = 0;
+    for (const auto& [edge, balance] : edges) open += balance != 0;
+    CHECK(open == 0);
+  }
 }

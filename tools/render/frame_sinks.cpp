@@ -6,6 +6,7 @@
 #include <optional>
 
 #include "core/scene.hpp"
+#include "tools/render/indenter_mesh.hpp"
 #include "tools/render/mesh_export.hpp"
 #include "tools/render/raytracer.hpp"
 #include "tools/render/surface.hpp"
@@ -47,16 +48,19 @@ class RenderSink final : public io::FrameSink {
     const bool mesh_due = (output_.glb || output_.obj) && (output_.mesh_every_frame || last);
     if (!output_.png && !mesh_due) return;
     build_surface_mesh(sim.world(), renderer_.mesh_options(), mesh_);
-    const SurfaceMesh& mesh = mesh_;
-    if (output_.png) write_png(frames_dir() / numbered(output_.prefix, frame, ".png"), renderer_.draw(mesh, *camera_));
-    if (!mesh_due) return;
-    ExportOptions options;
-    const bool printed = renderer_.settings().print.enabled;
-    options.print = printed ? &renderer_.print() : nullptr;
-    options.print_file = printed ? output_.prefix + "_print.png" : "";
-    options.paper_color = renderer_.settings().paper_color;
-    if (output_.glb) export_glb(mesh, mesh_dir() / numbered(output_.prefix, frame, ".glb"), options);
-    if (output_.obj) export_obj(mesh, mesh_dir() / numbered(output_.prefix, frame, ".obj"), options);
+    if (mesh_due) {
+      ExportOptions options;
+      const bool printed = renderer_.settings().print.enabled;
+      options.print = printed ? &renderer_.print() : nullptr;
+      options.print_file = printed ? output_.prefix + "_print.png" : "";
+      options.paper_color = renderer_.settings().paper_color;
+      if (output_.glb) export_glb(mesh_, mesh_dir() / numbered(output_.prefix, frame, ".glb"), options);
+      if (output_.obj) export_obj(mesh_, mesh_dir() / numbered(output_.prefix, frame, ".obj"), options);
+    }
+    // The frame shows the pierce scene's indenter too; the meshes hold the sheet only.
+    if (!output_.png) return;
+    append_indenter(sim.world(), mesh_);
+    write_png(frames_dir() / numbered(output_.prefix, frame, ".png"), renderer_.draw(mesh_, *camera_));
   }
 
  private:

@@ -16,6 +16,7 @@
 
 #include "kernels/parallel.hpp"
 #include "tools/render/hash.hpp"
+#include "tools/render/indenter_mesh.hpp"
 #include "tools/render/print.hpp"
 #include "tools/render/quads.hpp"
 
@@ -975,9 +976,14 @@ Camera Renderer::camera_for(const World& world) const {
 
 Image Renderer::draw(const World& world, const Camera& camera) const {
   std::unique_lock lock(impl_->buffers_in_use, std::try_to_lock);
-  if (!lock) return draw(build_surface_mesh(world, mesh_options()), camera);
+  if (!lock) {
+    SurfaceMesh mesh = build_surface_mesh(world, mesh_options());
+    append_indenter(world, mesh);
+    return draw(mesh, camera);
+  }
   FrameBuffers& buffers = impl_->kept_buffers();
   build_surface_mesh(world, mesh_options(), buffers.mesh);
+  append_indenter(world, buffers.mesh);
   return impl_->frame(buffers.mesh, camera, buffers);
 }
 

@@ -52,8 +52,9 @@ class Renderer {
   // animation, take it once from the first frame and pass it to every draw().
   Camera camera_for(const World& world) const;
 
-  // A frame of the world, or of a mesh already built. Safe to call from several threads at
-  // once: a call that finds the kept buffers in use by another allocates its own.
+  // A frame of the world (with the pierce scene's indenter, indenter_mesh.hpp), or of a mesh
+  // already built. Safe to call from several threads at once: a call that finds the kept
+  // buffers in use by another allocates its own.
   Image draw(const World& world, const Camera& camera) const;
   Image draw(const SurfaceMesh& mesh, const Camera& camera) const;
 
