@@ -25,6 +25,11 @@ std::string case_name(const char* family, const char* impl, const Case& c) {
          std::to_string(c.threads);
 }
 
+std::string default_scene_size() {
+  const auto& cells = Scene{}.sheet.cells;
+  return std::to_string(cells[0]) + "x" + std::to_string(cells[1]) + "x" + std::to_string(cells[2]);
+}
+
 const World& default_scene_at(int step) {
   static std::map<int, World> worlds;  // std::map: references stay valid as it grows
   auto it = worlds.find(step);

@@ -43,7 +43,10 @@ std::string case_name(const char* family, const char* impl, const Case& c);
 // so every timed step does the same work.
 Scene quiet_pull_scene(const Size& size);
 
-// The default scene (the paper's experiment) run to `step` on 2 threads, made once per
+// The default scene's sheet, "<nx>x<ny>x<nl>", for case names.
+std::string default_scene_size();
+
+// The default scene run to `step` on 2 threads, made once per
 // process and step (seconds each) and kept for the cases that start from it.
 const World& default_scene_at(int step);
 

@@ -1,10 +1,10 @@
 // Rendering: the display mesh (surface extraction with frayed fibres and peeled skins) and
 // one ray-traced 1280 × 720 frame at the default settings (4 samples per pixel, soft
-// shadows), of the paper's 90 × 90 × 5 sheet intact and torn in two:
-//   render/surface/<state>/90x90x5/threads:<t>   build_surface_mesh (a fresh mesh each time)
-//   render/surface_kept/<state>/90x90x5/threads:<t>  the same into one mesh kept across
-//                                                 iterations, as a frame loop does
-//   render/frame/<state>/90x90x5/threads:<t>     Renderer::draw (mesh + Embree scene + trace)
+// shadows), of the default scene's sheet (<size> = 120x80x3) intact and torn in two:
+//   render/surface/<state>/<size>/threads:<t>   build_surface_mesh (a fresh mesh each time)
+//   render/surface_kept/<state>/<size>/threads:<t>  the same into one mesh kept across
+//                                                iterations, as a frame loop does
+//   render/frame/<state>/<size>/threads:<t>     Renderer::draw (mesh + Embree scene + trace)
 // The torn sheet is bench::torn_render_sheet() (bench_cases.hpp).
 #include <oneapi/tbb/task_arena.h>
 
@@ -20,7 +20,7 @@ enum class SheetState { intact, torn };
 const World& sheet(SheetState state) {
   if (state == SheetState::torn) return torn_render_sheet();
   static const World intact = [] {
-    Simulation sim(Scene{});  // the paper's experiment
+    Simulation sim(Scene{});
     sim.step(10);
     return sim.world();
   }();
@@ -67,7 +67,7 @@ void register_render_benchmarks() {
   for (SheetState s : {SheetState::intact, SheetState::torn}) {
     const std::string state = s == SheetState::intact ? "intact" : "torn";
     for (int threads : {1, 2}) {
-      const std::string suffix = state + "/90x90x5/threads:" + std::to_string(threads);
+      const std::string suffix = state + "/" + default_scene_size() + "/threads:" + std::to_string(threads);
       register_timed("render/surface/" + suffix, benchmark::kMillisecond, render_surface, s, threads, false);
       register_timed("render/surface_kept/" + suffix, benchmark::kMillisecond, render_surface, s, threads, true);
       register_timed("render/frame/" + suffix, benchmark::kMillisecond, render_frame, s, threads);

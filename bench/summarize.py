@@ -49,6 +49,11 @@ def cells_of(size):
     return nx * ny * nl
 
 
+# The default scene's sheet: the size in the names of the torn, fracture/default and render
+# cases (bench_cases.cpp, default_scene_size).
+DEFAULT_SIZE = "120x80x3"
+
+
 def ratios(cases):
     out = []
     def get(name):
@@ -121,10 +126,14 @@ def growth_and_render(cases):
             if base and big:
                 out.append((f"ns per cell-step {size} / 90x90x5, {t} threads", big / base, "growth"))
     for t in (1, 2):
-        share = counter(f"fracture/default/90x90x5/threads:{t}", "share_of_step")
+        share = counter(f"fracture/default/{DEFAULT_SIZE}/threads:{t}", "share_of_step")
         if share is not None:
-            out.append((f"fracture pass / RK4 step while the default scene tears (90x90x5), {t} threads",
+            out.append((f"fracture pass / RK4 step while the default scene tears ({DEFAULT_SIZE}), {t} threads",
                         share, "share"))
+    for cells in ("flat3", "flat10"):
+        over = counter(f"stable_step/{cells}/90x90x5", "over_cube")
+        if over is not None:
+            out.append((f"stable step, {cells} cells / cube cells (90x90x5)", over, "stable step"))
     # What a second thread gives the probes (rates: FMA and sqrt+div share nothing between
     # threads, the triad only the memory system): the ceiling for the thread-scaling ratios
     # above, which on a VM can be well under 2 (a shared core, a lower clock with both cores
@@ -142,8 +151,8 @@ def growth_and_render(cases):
             out.append((f"probe/spring vs probe/sqrt_div, {t} threads: a spring's cached work / its sqrt+div",
                         pairs / springs, "vs compute floor"))
     for state in ("intact", "torn"):
-        one = cases.get(f"render/frame/{state}/90x90x5/threads:1", {}).get("seconds")
-        two = cases.get(f"render/frame/{state}/90x90x5/threads:2", {}).get("seconds")
+        one = cases.get(f"render/frame/{state}/{DEFAULT_SIZE}/threads:1", {}).get("seconds")
+        two = cases.get(f"render/frame/{state}/{DEFAULT_SIZE}/threads:2", {}).get("seconds")
         if two:
             out.append((f"render frame {state} 1280x720, 2 threads / 150 ms target", two / 0.150, "vs target"))
         if one and two:
