@@ -196,7 +196,7 @@ void scene_fields(IO& io, S& s) {
   io.int32(m.block_width, "material.block_width");
   io.int32(m.block_depth, "material.block_depth");
   for (auto* v : {&m.block_stiffness, &m.strain_intra, &m.strain_inter, &m.strain_layer, &m.strain_surface,
-                  &m.grain_strength, &m.strength_jitter, &m.tip_strength, &m.bridge_time})
+                  &m.grain_strength, &m.cross_stretch, &m.strength_jitter, &m.tip_strength, &m.bridge_time})
     io.field(*v, "a material value");
 
   auto& l = s.load;

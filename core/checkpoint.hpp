@@ -50,8 +50,9 @@
 
 namespace papertear {
 
-inline constexpr std::uint32_t kCheckpointFormatVersion = 4;  // 2: the indenter keys; 3: scene lines;
-                                                             // 4: material from moduli and density
+inline constexpr std::uint32_t kCheckpointFormatVersion = 5;  // 2: the indenter keys; 3: scene lines;
+                                                             // 4: material from moduli and density;
+                                                             // 5: material.cross_stretch
 inline constexpr std::size_t kCheckpointHeaderSize = 32;
 inline constexpr std::string_view kCheckpointMagic{"\x89PTCK\r\n\x1a\n", 8};
 

@@ -129,6 +129,7 @@ void validate_material(const MaterialParams& m) {
   positive(m.strain_layer, "material.strain_layer");
   positive(m.strain_surface, "material.strain_surface");
   positive(m.grain_strength, "material.grain_strength");
+  positive(m.cross_stretch, "material.cross_stretch");
   non_negative(m.strength_jitter, "material.strength_jitter");
   require(m.strength_jitter < 1.0, "material.strength_jitter", "must be below 1");
   positive(m.tip_strength, "material.tip_strength");

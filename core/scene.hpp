@@ -52,6 +52,8 @@ struct MaterialParams {
   double strain_layer = 0.40;    // between layers (different blocks)
   double strain_surface = 0.40;  // between the top layer and the one below (coated: weak)
   double grain_strength = 1.3;   // strength of faces normal to the grain / of the others
+  double cross_stretch = 1.3;    // strain at which tension across the grain opens a bond / along
+                                 // it (paper's CD stretch at break exceeds its MD stretch)
   double strength_jitter = 0.05; // relative spread of the per-block strength factor
   double tip_strength = 0.3;     // a bond's strength at a crack tip, relative (fracture_pass.hpp)
   double bridge_time = 20.0;     // how long fibres bridge a fresh crack, in bond failure times

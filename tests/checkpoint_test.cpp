@@ -191,7 +191,7 @@ TEST_CASE("every scene field survives a checkpoint", "[checkpoint]") {
   m.grain = 'y';
   for (double* v : {&m.E_md, &m.E_cd, &m.E_zd, &m.G_md_cd, &m.G_md_zd, &m.G_cd_zd, &m.density, &m.damping,
                     &m.fiber_length, &m.fiber_length_sigma, &m.block_stiffness, &m.strain_intra, &m.strain_inter,
-                    &m.strain_layer, &m.strain_surface, &m.grain_strength, &m.strength_jitter, &m.tip_strength,
+                    &m.strain_layer, &m.strain_surface, &m.grain_strength, &m.cross_stretch, &m.strength_jitter, &m.tip_strength,
                     &m.bridge_time})
     *v *= 1.25;
   m.block_width += 1;

@@ -186,9 +186,12 @@ TEST_CASE("A hand tear starts at the notch and runs down the sheet", "[loads][te
   double deepest = 0.0;
   for (const TornFace& f : torn) deepest = std::max(deepest, f.y);
   CHECK(deepest > 0.5 * d.ny * d.hy);
-  // Out of plane: the grips have moved apart along z, not in the sheet's plane.
+  // The bonds that open are the in-plane ones across the tear's line: along the top layer's
+  // tear (but the notch), through at least half of the node layers. (The top layer's front
+  // runs ahead of the lower layers' in this mode-III tear, so not through all of them yet.)
   const Metrics m = measure(sim.world());
-  CHECK(m.splits_inplane > 50);
+  INFO("deepest " << deepest << " mm, in-plane splits " << m.splits_inplane);
+  CHECK(double(m.splits_inplane) >= 0.5 * double(d.nl + 1) * (deepest / d.hy - double(sim.scene().load.notch)));
 }
 
 TEST_CASE("Bad indenter and load keys are refused naming the key", "[loads][scene]") {

@@ -44,6 +44,7 @@ void visit_scene_fields(SceneT& s, Visitor&& visit) {
   visit("material.strain_layer", s.material.strain_layer);
   visit("material.strain_surface", s.material.strain_surface);
   visit("material.grain_strength", s.material.grain_strength);
+  visit("material.cross_stretch", s.material.cross_stretch);
   visit("material.strength_jitter", s.material.strength_jitter);
   visit("material.tip_strength", s.material.tip_strength);
   visit("material.bridge_time", s.material.bridge_time);
