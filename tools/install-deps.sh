@@ -24,6 +24,10 @@ PACKAGES=(
   libtinygltf-dev
   nlohmann-json3-dev
   gnuplot-nox            # sweep plots (papertear sweep); without it the sweep warns and skips them
+  python3-dev            # the Python module (tools/python): headers,
+  python3-pybind11       #   the bindings,
+  python3-numpy          #   arrays,
+  python3-pytest         #   and its tests
 )
 
 is_installed() {

@@ -26,7 +26,8 @@ file(MAKE_DIRECTORY "${WORK_DIR}")
 
 run_step("install" ${CMAKE_COMMAND} --install "${BUILD_DIR}" --prefix "${prefix}")
 
-foreach(header core/simulation.hpp core/scene.hpp core/world.hpp kernels/parallel.hpp fracture/metrics.hpp)
+foreach(header core/simulation.hpp core/scene.hpp core/world.hpp kernels/parallel.hpp fracture/metrics.hpp
+               tools/scene_file.hpp tools/summary.hpp tools/render/mesh_export.hpp)
   if(NOT EXISTS "${prefix}/include/papertear/${header}")
     message(FATAL_ERROR "package test: ${header} was not installed under ${prefix}/include/papertear")
   endif()
@@ -50,4 +51,6 @@ endif()
 
 run_step("build consumer" ${CMAKE_COMMAND} --build "${consumer_build}")
 run_step("run consumer" "${consumer_build}/app")
+message(STATUS "${step_output}")
+run_step("run host" "${consumer_build}/host" "${WORK_DIR}/host-out")
 message(STATUS "${step_output}")
