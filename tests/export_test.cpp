@@ -22,10 +22,12 @@
 #include "tools/render/render.hpp"
 #include "tools/render/video.hpp"
 #include "tools/run_frames.hpp"
+#include "tests/gltf_files.hpp"
 
 using namespace papertear;
 using namespace papertear::render;
 namespace fs = std::filesystem;
+using papertear::testing::read_floats;
 
 namespace {
 
@@ -74,16 +76,6 @@ World torn_sheet(int nx, int ny, int nl) {
     }
   }
   return w;
-}
-
-std::vector<float> read_floats(const tinygltf::Model& m, int accessor_index) {
-  const tinygltf::Accessor& a = m.accessors[std::size_t(accessor_index)];
-  REQUIRE(a.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT);
-  const tinygltf::BufferView& v = m.bufferViews[std::size_t(a.bufferView)];
-  const std::size_t n = a.count * std::size_t(tinygltf::GetNumComponentsInType(std::uint32_t(a.type)));
-  std::vector<float> out(n);
-  std::memcpy(out.data(), m.buffers[std::size_t(v.buffer)].data.data() + v.byteOffset + a.byteOffset, n * sizeof(float));
-  return out;
 }
 
 // What the OBJ reader found.
@@ -171,8 +163,21 @@ TEST_CASE("a .glb loads back with its vertices, triangles and original nodes", "
     saw_copy |= node[v] != original[v];
   }
   CHECK(saw_copy);
+  // glTF's frame: y up, metres; simulation (x, y, z) mm -> (x, z, -y) * 0.001.
   const std::vector<float> pos = read_floats(model, prims[0].attributes.at("POSITION"));
-  CHECK(pos[3 * 5 + 1] == mesh.position[5][1]);
+  const std::vector<float> normal = read_floats(model, prims[0].attributes.at("NORMAL"));
+  bool saw_height = false;
+  for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
+    CHECK(pos[3 * v] == mesh.position[v][0] * 0.001f);
+    CHECK(pos[3 * v + 1] == mesh.position[v][2] * 0.001f);
+    CHECK(pos[3 * v + 2] == -mesh.position[v][1] * 0.001f);
+    CHECK(normal[3 * v + 1] == mesh.normal[v][2]);
+    saw_height |= pos[3 * v + 1] != 0.0f;
+  }
+  CHECK(saw_height);
+  REQUIRE(model.asset.extras.IsObject());
+  CHECK(model.asset.extras.Get("unit").Get<std::string>() == "m");
+  CHECK(model.asset.extras.Get("metres_per_unit").GetNumberAsDouble() == 0.001);
   // The print travels inside the file, as a PNG.
   REQUIRE(model.images.size() == 1);
   CHECK(model.images[0].width == 64);
@@ -195,7 +200,9 @@ TEST_CASE("an .obj loads back with its vertices, triangles and original nodes", 
   for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
     CHECK(obj.node[v][0] == mesh.original_node[v]);
     CHECK(obj.node[v][1] == mesh.node[v]);
-    CHECK(obj.v[v] == mesh.position[v]);  // shortest round-trip formatting is exact
+    // glTF's frame (y up, metres); shortest round-trip formatting is exact.
+    const std::array<float, 3> p = mesh.position[v];
+    CHECK(obj.v[v] == std::array<float, 3>{p[0] * 0.001f, p[2] * 0.001f, -p[1] * 0.001f});
   }
   for (const auto& f : obj.faces)
     for (long index : f) CHECK((index >= 1 && std::size_t(index) <= mesh.vertex_count()));
@@ -236,6 +243,7 @@ TEST_CASE("the run's render sinks write frames and meshes as [output] asks", "[e
     mesh = "both"
     mesh_frames = "last"
     video = false
+    animation = false
   )");
   TempDir dir;
   auto sinks = make_render_sinks(config, {}, dir.path);
@@ -270,7 +278,9 @@ TEST_CASE("a bad [output] table is named", "[export]") {
   CHECK_THAT(error_of("[output]\nmesh_frame = \"all\""), Catch::Contains("output.mesh_frames"));
   CHECK_THAT(error_of("[output]\nprefix = \"a/b\""), Catch::Contains("output.prefix"));
   CHECK_THAT(error_of("[output]\npng = 1"), Catch::Contains("output.png"));
-  CHECK(make_render_sinks(toml::parse("[output]\npng = false\nmesh = \"none\""), {}, "unused").empty());
+  CHECK_THAT(error_of("[output]\nanimation = \"yes\""), Catch::Contains("output.animation"));
+  CHECK(make_render_sinks(toml::parse("[output]\npng = false\nmesh = \"none\"\nanimation = false"), {}, "unused")
+            .empty());
 }
 
 TEST_CASE("without ffmpeg the video is skipped with one notice, with it video.mp4 appears", "[export]") {

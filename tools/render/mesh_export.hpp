@@ -12,12 +12,17 @@
 // OBJ: every "v" line is followed by a comment line "#node <original node> <node>".
 // Texture coordinates are written with OBJ's origin at the image's bottom left; a .mtl file
 // of the same name holds the three materials, and refers to the print image by file name.
+// Both are in glTF's frame, y up and in metres (gltf_builder.hpp): a simulation point
+// (x, y, z) mm is written as (x, z, -y) * 0.001, normals likewise rotated.
 // Fibres and translucency of peeled skins are display detail: the fibres are in both files
 // as ordinary triangles; translucency is not exported.
 #pragma once
 #include <filesystem>
 #include <string>
 
+#include <optional>
+
+#include "tools/render/gltf_frame.hpp"
 #include "tools/render/image.hpp"
 #include "tools/render/settings.hpp"
 #include "tools/render/surface.hpp"
@@ -28,6 +33,7 @@ struct ExportOptions {
   const Image* print = nullptr;  // glb: embedded as the print material's texture
   std::string print_file;        // obj: the texture's file name for map_Kd (not written here)
   Vec3d paper_color{0.93, 0.91, 0.86};  // sRGB
+  std::optional<FrameInfo> frame;       // glb: asset.extras; obj: a header comment
 };
 
 // Both written atomically (tools/output_files.hpp: io::OutputError when a file cannot be
