@@ -142,24 +142,36 @@ TEST_CASE("a .glb loads back with its vertices, triangles and original nodes", "
   std::string err, warn;
   REQUIRE(loader.LoadBinaryFromFile(&model, &err, &warn, file.string()));
   INFO(err << warn);
-  REQUIRE(model.meshes.size() == 1);
+  // The sheet (print, paper and torn faces) and the frayed fibres, each a mesh of its own.
+  REQUIRE(model.meshes.size() == 2);
+  CHECK(model.meshes[0].name == "sheet");
+  CHECK(model.meshes[1].name == "fibres");
+  REQUIRE(model.nodes.size() == 2);
   const auto& prims = model.meshes[0].primitives;
-  REQUIRE(prims.size() == 3);  // print, paper, fibre
+  REQUIRE(prims.size() == 3);  // print, paper, torn faces
   std::size_t triangles = 0;
-  for (const auto& p : prims) {
-    triangles += model.accessors[std::size_t(p.indices)].count / 3;
-    CHECK(model.accessors[std::size_t(p.attributes.at("POSITION"))].count == mesh.vertex_count());
-    CHECK(p.attributes.count("NORMAL") == 1);
-    CHECK(p.attributes.count("TEXCOORD_0") == 1);
-  }
+  for (const auto& m : model.meshes)
+    for (const auto& p : m.primitives) {
+      triangles += model.accessors[std::size_t(p.indices)].count / 3;
+      CHECK(p.attributes.count("NORMAL") == 1);
+      CHECK(p.attributes.count("TEXCOORD_0") == 1);
+    }
+  CHECK(model.accessors[std::size_t(prims[0].attributes.at("POSITION"))].count == mesh.sheet_vertices);
+  CHECK(model.accessors[std::size_t(model.meshes[1].primitives[0].attributes.at("POSITION"))].count ==
+        mesh.vertex_count() - mesh.sheet_vertices);
+  CHECK(mesh.sheet_triangles < mesh.triangle_count());
   CHECK(triangles == mesh.triangle_count());
   const std::vector<float> original = read_floats(model, prims[0].attributes.at("_ORIGINAL_NODE"));
   const std::vector<float> node = read_floats(model, prims[0].attributes.at("_NODE"));
-  REQUIRE(original.size() == mesh.vertex_count());
+  REQUIRE(original.size() == mesh.sheet_vertices);
+  const std::vector<float> ids = read_floats(model, prims[0].attributes.at("TEXCOORD_1"));  // for Blender
+  REQUIRE(ids.size() == 2 * mesh.sheet_vertices);
   bool saw_copy = false;
-  for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
+  for (std::size_t v = 0; v < mesh.sheet_vertices; ++v) {
     CHECK(original[v] == float(mesh.original_node[v]));
     CHECK(node[v] == float(mesh.node[v]));
+    CHECK(ids[2 * v] == node[v]);
+    CHECK(ids[2 * v + 1] == original[v]);
     saw_copy |= node[v] != original[v];
   }
   CHECK(saw_copy);
@@ -167,7 +179,7 @@ TEST_CASE("a .glb loads back with its vertices, triangles and original nodes", "
   const std::vector<float> pos = read_floats(model, prims[0].attributes.at("POSITION"));
   const std::vector<float> normal = read_floats(model, prims[0].attributes.at("NORMAL"));
   bool saw_height = false;
-  for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
+  for (std::size_t v = 0; v < mesh.sheet_vertices; ++v) {
     CHECK(pos[3 * v] == mesh.position[v][0] * 0.001f);
     CHECK(pos[3 * v + 1] == mesh.position[v][2] * 0.001f);
     CHECK(pos[3 * v + 2] == -mesh.position[v][1] * 0.001f);

@@ -167,12 +167,12 @@ void TearRecording::write_glb(const World& final_world, const ExportOptions& opt
     names.emplace_back(std::string(name));
   }
   g.add_materials({.print = options.print, .paper_color = options.paper_color});
-  tinygltf::Mesh gm = primitives_by_material(g, mesh, attributes);
+  tinygltf::Mesh gm = primitives_by_material(g, mesh, attributes, "sheet");
   for (tinygltf::Primitive& p : gm.primitives) p.targets = targets;
   gm.weights.assign(targets.size(), 0.0);
   if (!targets.empty()) gm.extras = tinygltf::Value(tinygltf::Value::Object{{"targetNames", tinygltf::Value(names)}});
   g.model().meshes.push_back(gm);
-  g.add_sheet_node();
+  g.add_mesh_nodes();
   std::vector<FrameInfo> infos;
   for (const Frame& f : frames_) infos.push_back(f.info);
   if (frames_.size() > 1) add_weights_animation(g, frames_.size(), infos.back().fps);

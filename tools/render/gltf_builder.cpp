@@ -107,13 +107,15 @@ void GltfBuilder::set_extras(tinygltf::Value::Object extras) {
   model_.asset.extras = tinygltf::Value(std::move(extras));
 }
 
-void GltfBuilder::add_sheet_node() {
-  tinygltf::Node node;
-  node.mesh = 0;
-  node.name = "sheet";
-  model_.nodes.push_back(node);
+void GltfBuilder::add_mesh_nodes() {
   tinygltf::Scene scene;
-  scene.nodes = {0};
+  for (std::size_t i = 0; i < model_.meshes.size(); ++i) {
+    tinygltf::Node node;
+    node.mesh = int(i);
+    node.name = model_.meshes[i].name;
+    model_.nodes.push_back(node);
+    scene.nodes.push_back(int(i));
+  }
   model_.scenes.push_back(scene);
   model_.defaultScene = 0;
 }
@@ -152,13 +154,19 @@ std::map<std::string, int> print_and_node_attributes(GltfBuilder& g, const Surfa
                              TINYGLTF_TYPE_SCALAR, n);
   attr["_ORIGINAL_NODE"] = g.accessor(g.view(original, TINYGLTF_TARGET_ARRAY_BUFFER),
                                       TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_SCALAR, n);
+  // The same ids again as a second UV map (node, original node): importers that drop
+  // attributes of their own (Blender's) keep UV maps, and tools/blender/ turns it back.
+  std::vector<float> ids(2 * n);
+  for (std::size_t v = 0; v < n; ++v) ids[2 * v] = node[v], ids[2 * v + 1] = original[v];
+  attr["TEXCOORD_1"] = g.accessor(g.view(ids, TINYGLTF_TARGET_ARRAY_BUFFER), TINYGLTF_COMPONENT_TYPE_FLOAT,
+                                  TINYGLTF_TYPE_VEC2, n);
   return attr;
 }
 
 tinygltf::Mesh primitives_by_material(GltfBuilder& g, const SurfaceMesh& mesh,
-                                      const std::map<std::string, int>& attributes) {
+                                      const std::map<std::string, int>& attributes, const std::string& name) {
   tinygltf::Mesh gm;
-  gm.name = "sheet";
+  gm.name = name;
   const auto groups = indices_by_material(mesh);
   for (std::size_t i = 0; i < groups.size(); ++i) {
     if (groups[i].empty()) continue;
@@ -171,6 +179,33 @@ tinygltf::Mesh primitives_by_material(GltfBuilder& g, const SurfaceMesh& mesh,
     gm.primitives.push_back(p);
   }
   return gm;
+}
+
+namespace {
+
+// Vertices [v0, v1) and triangles [t0, t1) of `mesh` (whose triangles use only those
+// vertices) as a mesh of their own.
+SurfaceMesh slice(const SurfaceMesh& mesh, std::size_t v0, std::size_t v1, std::size_t t0, std::size_t t1) {
+  SurfaceMesh out;
+  out.resize(v1 - v0, t1 - t0);
+  for (std::size_t v = v0; v < v1; ++v)
+    out.set_vertex(std::uint32_t(v - v0), mesh.position[v], mesh.normal[v], mesh.uv[v], mesh.node[v],
+                   mesh.original_node[v]);
+  for (std::size_t t = t0; t < t1; ++t) {
+    std::array<std::uint32_t, 3> tri = mesh.triangles[t];
+    for (auto& i : tri) i -= std::uint32_t(v0);
+    out.set_triangle(t - t0, tri, mesh.material[t], mesh.kind[t], mesh.cell[t], mesh.opacity[t], mesh.shade[t]);
+  }
+  out.sheet_vertices = out.vertex_count();
+  out.sheet_triangles = out.triangle_count();
+  return out;
+}
+
+}  // namespace
+
+SheetAndFibres split_fibres(const SurfaceMesh& mesh) {
+  return {slice(mesh, 0, mesh.sheet_vertices, 0, mesh.sheet_triangles),
+          slice(mesh, mesh.sheet_vertices, mesh.vertex_count(), mesh.sheet_triangles, mesh.triangle_count())};
 }
 
 tinygltf::Value::Object frame_extras(const FrameInfo& info) {

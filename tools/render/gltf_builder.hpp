@@ -38,8 +38,8 @@ class GltfBuilder {
   void add_materials(const MaterialOptions& options);
   // asset.extras: units and frame, and what else the writer adds.
   void set_extras(tinygltf::Value::Object extras);
-  // One node holding mesh 0, the default scene.
-  void add_sheet_node();
+  // One node per mesh, named as the mesh, all in the default scene.
+  void add_mesh_nodes();
   tinygltf::Model& model() { return model_; }
   // Encodes the model as .glb and writes it atomically (io::OutputError, RenderError).
   void write(const std::filesystem::path& path);
@@ -52,11 +52,18 @@ tinygltf::Value::Object frame_extras(const FrameInfo& info);
 
 // The mesh's triangle indices grouped by material (print, paper, fibre), each in mesh order.
 std::array<std::vector<std::uint32_t>, 3> indices_by_material(const SurfaceMesh& mesh);
-// TEXCOORD_0, _NODE and _ORIGINAL_NODE (ids as SCALAR FLOAT: glTF allows 32-bit integers
+// TEXCOORD_0, _NODE and _ORIGINAL_NODE, and TEXCOORD_1 = (_NODE, _ORIGINAL_NODE) (ids as SCALAR FLOAT: glTF allows 32-bit integers
 // only for indices, and floats hold ids exactly below 2^24; RenderError for larger ids).
 std::map<std::string, int> print_and_node_attributes(GltfBuilder& g, const SurfaceMesh& mesh);
-// Mesh "sheet": one primitive per material that has triangles, all with `attributes`.
+// A mesh named `name`: one primitive per material that has triangles, all with `attributes`.
 tinygltf::Mesh primitives_by_material(GltfBuilder& g, const SurfaceMesh& mesh,
-                                      const std::map<std::string, int>& attributes);
+                                      const std::map<std::string, int>& attributes, const std::string& name);
+
+// The mesh cut in two: the sheet's faces, and the frayed fibres after them (surface.hpp),
+// each with its own vertices (fibre vertices are never shared with the sheet).
+struct SheetAndFibres {
+  SurfaceMesh sheet, fibres;
+};
+SheetAndFibres split_fibres(const SurfaceMesh& mesh);
 
 }  // namespace papertear::render

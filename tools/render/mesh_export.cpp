@@ -86,10 +86,14 @@ std::string mtl_text(const ExportOptions& o) {
 
 void export_glb(const SurfaceMesh& mesh, const std::filesystem::path& path, const ExportOptions& options) {
   GltfBuilder g;
-  const std::map<std::string, int> attributes = vertex_attributes(g, mesh);
   g.add_materials({.print = options.print, .paper_color = options.paper_color});
-  g.model().meshes.push_back(primitives_by_material(g, mesh, attributes));
-  g.add_sheet_node();
+  // The fibres in a mesh (and node) of their own, so that a user can hide or drop them.
+  const SheetAndFibres parts = split_fibres(mesh);
+  g.model().meshes.push_back(primitives_by_material(g, parts.sheet, vertex_attributes(g, parts.sheet), "sheet"));
+  if (parts.fibres.triangle_count() > 0)
+    g.model().meshes.push_back(
+        primitives_by_material(g, parts.fibres, vertex_attributes(g, parts.fibres), "fibres"));
+  g.add_mesh_nodes();
   g.set_extras(options.frame ? frame_extras(*options.frame) : tinygltf::Value::Object{});
   g.write(path);
 }
