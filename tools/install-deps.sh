@@ -24,6 +24,12 @@ PACKAGES=(
   libtinygltf-dev
   nlohmann-json3-dev
   gnuplot-nox            # sweep plots (papertear sweep); without it the sweep warns and skips them
+  ffmpeg                 # video.mp4 of every run; ffprobe checks it (client tests)
+  nodejs                 # client tests and the viewer: glTF validator, three.js, playwright-core
+  npm
+  blender                # client test: imports the run's glTF (tools/blender/)
+  python3-numpy          # Debian's Blender needs it for glTF import and does not pull it in
+  chromium               # client test: the viewer in a headless browser
 )
 
 is_installed() {
