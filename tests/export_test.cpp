@@ -153,13 +153,26 @@ TEST_CASE("a .glb loads back with its vertices, triangles and original nodes", "
   for (const auto& m : model.meshes)
     for (const auto& p : m.primitives) {
       triangles += model.accessors[std::size_t(p.indices)].count / 3;
-      CHECK(p.attributes.count("NORMAL") == 1);
+      CHECK(p.attributes.count("NORMAL") == (m.name == "sheet" ? 1u : 0u));  // fibres: flat-shaded
       CHECK(p.attributes.count("TEXCOORD_0") == 1);
     }
   CHECK(model.accessors[std::size_t(prims[0].attributes.at("POSITION"))].count == mesh.sheet_vertices);
-  CHECK(model.accessors[std::size_t(model.meshes[1].primitives[0].attributes.at("POSITION"))].count ==
-        mesh.vertex_count() - mesh.sheet_vertices);
   CHECK(mesh.sheet_triangles < mesh.triangle_count());
+  // The fibres share their vertices, and keep every corner where it was.
+  const auto& fibres = model.meshes[1].primitives.at(0);
+  const std::vector<float> fpos = read_floats(model, fibres.attributes.at("POSITION"));
+  CHECK(fpos.size() / 3 < (mesh.vertex_count() - mesh.sheet_vertices) / 2);
+  const tinygltf::Accessor& fi = model.accessors[std::size_t(fibres.indices)];
+  REQUIRE(fi.count == 3 * (mesh.triangle_count() - mesh.sheet_triangles));
+  const auto* findex = reinterpret_cast<const std::uint32_t*>(
+      model.buffers[0].data.data() + model.bufferViews[std::size_t(fi.bufferView)].byteOffset);
+  for (std::size_t t = mesh.sheet_triangles; t < mesh.triangle_count(); ++t)
+    for (std::size_t c = 0; c < 3; ++c) {
+      const std::uint32_t v = findex[3 * (t - mesh.sheet_triangles) + c];
+      const std::array<float, 3>& p = mesh.position[mesh.triangles[t][c]];
+      CHECK(fpos[3 * v] == p[0] * 0.001f);
+      CHECK(fpos[3 * v + 2] == -p[1] * 0.001f);
+    }
   CHECK(triangles == mesh.triangle_count());
   const std::vector<float> original = read_floats(model, prims[0].attributes.at("_ORIGINAL_NODE"));
   const std::vector<float> node = read_floats(model, prims[0].attributes.at("_NODE"));

@@ -73,8 +73,7 @@ def import_run(path):
     if len(sheets) != 1:
         raise RuntimeError(f"{glb}: expected one 'sheet' mesh, got {len(sheets)}")
     sheet = sheets[0]
-    for obj in meshes:
-        restore_ids(obj)
+    restore_ids(sheet)  # the fibres carry ids only as custom attributes
     keys = sheet.data.shape_keys
     if keys is not None and keys.animation_data and keys.animation_data.action:
         first, last = keys.animation_data.action.frame_range

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <unordered_map>
 #include <map>
 #include <sstream>
 
@@ -137,7 +139,7 @@ std::array<std::vector<std::uint32_t>, 3> indices_by_material(const SurfaceMesh&
   return out;
 }
 
-std::map<std::string, int> print_and_node_attributes(GltfBuilder& g, const SurfaceMesh& mesh) {
+std::map<std::string, int> print_and_node_attributes(GltfBuilder& g, const SurfaceMesh& mesh, bool ids_uv) {
   for (std::size_t v = 0; v < mesh.vertex_count(); ++v)
     if (mesh.node[v] >= kExactFloatIds || mesh.original_node[v] >= kExactFloatIds)
       throw RenderError("glTF export: node ids of 2^24 and above cannot be stored exactly as floats");
@@ -154,6 +156,7 @@ std::map<std::string, int> print_and_node_attributes(GltfBuilder& g, const Surfa
                              TINYGLTF_TYPE_SCALAR, n);
   attr["_ORIGINAL_NODE"] = g.accessor(g.view(original, TINYGLTF_TARGET_ARRAY_BUFFER),
                                       TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_SCALAR, n);
+  if (!ids_uv) return attr;
   // The same ids again as a second UV map (node, original node): importers that drop
   // attributes of their own (Blender's) keep UV maps, and tools/blender/ turns it back.
   std::vector<float> ids(2 * n);
@@ -201,11 +204,51 @@ SurfaceMesh slice(const SurfaceMesh& mesh, std::size_t v0, std::size_t v1, std::
   return out;
 }
 
+// The same triangles with vertices that agree in position, texture coordinates and ids made
+// one (normals are not compared: the fibres' file leaves them out).
+SurfaceMesh share_vertices(const SurfaceMesh& mesh) {
+  using Key = std::array<std::uint32_t, 7>;
+  struct KeyHash {
+    std::size_t operator()(const Key& k) const {
+      std::size_t h = 0;
+      for (std::uint32_t x : k) h = h * 0x9E3779B97F4A7C15ull + x;
+      return h;
+    }
+  };
+  std::unordered_map<Key, std::uint32_t, KeyHash> index;
+  std::vector<std::uint32_t> remap(mesh.vertex_count()), first;
+  for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
+    Key k;
+    std::memcpy(k.data(), mesh.position[v].data(), 12);
+    std::memcpy(k.data() + 3, mesh.uv[v].data(), 8);
+    k[5] = mesh.node[v];
+    k[6] = mesh.original_node[v];
+    const auto [it, added] = index.emplace(k, std::uint32_t(first.size()));
+    if (added) first.push_back(std::uint32_t(v));
+    remap[v] = it->second;
+  }
+  SurfaceMesh out;
+  out.resize(first.size(), mesh.triangle_count());
+  for (std::size_t i = 0; i < first.size(); ++i) {
+    const std::uint32_t v = first[i];
+    out.set_vertex(std::uint32_t(i), mesh.position[v], mesh.normal[v], mesh.uv[v], mesh.node[v], mesh.original_node[v]);
+  }
+  for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
+    const auto& tri = mesh.triangles[t];
+    out.set_triangle(t, {remap[tri[0]], remap[tri[1]], remap[tri[2]]}, mesh.material[t], mesh.kind[t],
+                     mesh.cell[t], mesh.opacity[t], mesh.shade[t]);
+  }
+  out.sheet_vertices = out.vertex_count();
+  out.sheet_triangles = out.triangle_count();
+  return out;
+}
+
 }  // namespace
 
 SheetAndFibres split_fibres(const SurfaceMesh& mesh) {
   return {slice(mesh, 0, mesh.sheet_vertices, 0, mesh.sheet_triangles),
-          slice(mesh, mesh.sheet_vertices, mesh.vertex_count(), mesh.sheet_triangles, mesh.triangle_count())};
+          share_vertices(
+              slice(mesh, mesh.sheet_vertices, mesh.vertex_count(), mesh.sheet_triangles, mesh.triangle_count()))};
 }
 
 tinygltf::Value::Object frame_extras(const FrameInfo& info) {

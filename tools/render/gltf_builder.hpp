@@ -52,15 +52,18 @@ tinygltf::Value::Object frame_extras(const FrameInfo& info);
 
 // The mesh's triangle indices grouped by material (print, paper, fibre), each in mesh order.
 std::array<std::vector<std::uint32_t>, 3> indices_by_material(const SurfaceMesh& mesh);
-// TEXCOORD_0, _NODE and _ORIGINAL_NODE, and TEXCOORD_1 = (_NODE, _ORIGINAL_NODE) (ids as SCALAR FLOAT: glTF allows 32-bit integers
+// TEXCOORD_0, _NODE and _ORIGINAL_NODE, and with `ids_uv` TEXCOORD_1 = (_NODE,
+// _ORIGINAL_NODE) (ids as SCALAR FLOAT: glTF allows 32-bit integers
 // only for indices, and floats hold ids exactly below 2^24; RenderError for larger ids).
-std::map<std::string, int> print_and_node_attributes(GltfBuilder& g, const SurfaceMesh& mesh);
+std::map<std::string, int> print_and_node_attributes(GltfBuilder& g, const SurfaceMesh& mesh, bool ids_uv = true);
 // A mesh named `name`: one primitive per material that has triangles, all with `attributes`.
 tinygltf::Mesh primitives_by_material(GltfBuilder& g, const SurfaceMesh& mesh,
                                       const std::map<std::string, int>& attributes, const std::string& name);
 
 // The mesh cut in two: the sheet's faces, and the frayed fibres after them (surface.hpp),
-// each with its own vertices (fibre vertices are never shared with the sheet).
+// each with its own vertices (fibre vertices are never shared with the sheet). The fibres'
+// vertices are shared where they agree in all but the normal: the file gives the fibres
+// no normals, so viewers shade them flat, as glTF asks of a mesh without NORMAL.
 struct SheetAndFibres {
   SurfaceMesh sheet, fibres;
 };

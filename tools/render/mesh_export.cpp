@@ -39,10 +39,12 @@ std::vector<float> gltf_directions(const MeshArray<std::array<float, 3>>& v) {
   return out;
 }
 
-std::map<std::string, int> vertex_attributes(GltfBuilder& g, const SurfaceMesh& mesh) {
-  std::map<std::string, int> attr = print_and_node_attributes(g, mesh);
+// The sheet's attributes, or the fibres' (flat-shaded: no normals, and no ids UV map: a
+// fibre's node is that of the face it grows on).
+std::map<std::string, int> vertex_attributes(GltfBuilder& g, const SurfaceMesh& mesh, bool fibres) {
+  std::map<std::string, int> attr = print_and_node_attributes(g, mesh, !fibres);
   attr["POSITION"] = g.vec3_accessor(gltf_positions(mesh.position), true);
-  attr["NORMAL"] = g.vec3_accessor(gltf_directions(mesh.normal), false);
+  if (!fibres) attr["NORMAL"] = g.vec3_accessor(gltf_directions(mesh.normal), false);
   return attr;
 }
 
@@ -89,10 +91,10 @@ void export_glb(const SurfaceMesh& mesh, const std::filesystem::path& path, cons
   g.add_materials({.print = options.print, .paper_color = options.paper_color});
   // The fibres in a mesh (and node) of their own, so that a user can hide or drop them.
   const SheetAndFibres parts = split_fibres(mesh);
-  g.model().meshes.push_back(primitives_by_material(g, parts.sheet, vertex_attributes(g, parts.sheet), "sheet"));
+  g.model().meshes.push_back(primitives_by_material(g, parts.sheet, vertex_attributes(g, parts.sheet, false), "sheet"));
   if (parts.fibres.triangle_count() > 0)
     g.model().meshes.push_back(
-        primitives_by_material(g, parts.fibres, vertex_attributes(g, parts.fibres), "fibres"));
+        primitives_by_material(g, parts.fibres, vertex_attributes(g, parts.fibres, true), "fibres"));
   g.add_mesh_nodes();
   g.set_extras(options.frame ? frame_extras(*options.frame) : tinygltf::Value::Object{});
   g.write(path);
