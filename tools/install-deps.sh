@@ -36,8 +36,13 @@ is_installed() {
   dpkg -s "$1" 2>/dev/null | grep -q '^Status: install ok installed$'
 }
 
+# Packages whose program may come from elsewhere: NodeSource's nodejs, say, carries its own
+# npm and conflicts with Debian's. Skipped when the program is already on the PATH.
+declare -A PROGRAM_OF=([npm]=npm)
+
 missing=()
 for pkg in "${PACKAGES[@]}"; do
+  if [[ -n "${PROGRAM_OF[$pkg]:-}" ]] && command -v "${PROGRAM_OF[$pkg]}" >/dev/null 2>&1; then continue; fi
   is_installed "$pkg" || missing+=("$pkg")
 done
 
