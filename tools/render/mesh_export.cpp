@@ -19,21 +19,14 @@ namespace {
 
 constexpr std::array<const char*, 3> kMaterialNames = {"print", "paper", "fibre"};
 
-// Positions and normals in glTF's frame (gltf_builder.hpp), flattened.
-std::vector<float> gltf_positions(const MeshArray<std::array<float, 3>>& v) {
+// Positions or normals (`to_gltf`: to_gltf_position or to_gltf_direction) in glTF's frame
+// (gltf_frame.hpp), flattened.
+template <class Convert>
+std::vector<float> in_gltf_frame(const MeshArray<std::array<float, 3>>& v, Convert to_gltf) {
   std::vector<float> out;
   out.reserve(v.size() * 3);
   for (const auto& a : v) {
-    const auto g = to_gltf_position(a);
-    out.insert(out.end(), g.begin(), g.end());
-  }
-  return out;
-}
-std::vector<float> gltf_directions(const MeshArray<std::array<float, 3>>& v) {
-  std::vector<float> out;
-  out.reserve(v.size() * 3);
-  for (const auto& a : v) {
-    const auto g = to_gltf_direction(a);
+    const std::array<float, 3> g = to_gltf(a);
     out.insert(out.end(), g.begin(), g.end());
   }
   return out;
@@ -43,8 +36,8 @@ std::vector<float> gltf_directions(const MeshArray<std::array<float, 3>>& v) {
 // fibre's node is that of the face it grows on).
 std::map<std::string, int> vertex_attributes(GltfBuilder& g, const SurfaceMesh& mesh, bool fibres) {
   std::map<std::string, int> attr = print_and_node_attributes(g, mesh, !fibres);
-  attr["POSITION"] = g.vec3_accessor(gltf_positions(mesh.position), true);
-  if (!fibres) attr["NORMAL"] = g.vec3_accessor(gltf_directions(mesh.normal), false);
+  attr["POSITION"] = g.vec3_accessor(in_gltf_frame(mesh.position, to_gltf_position), true);
+  if (!fibres) attr["NORMAL"] = g.vec3_accessor(in_gltf_frame(mesh.normal, to_gltf_direction), false);
   return attr;
 }
 
