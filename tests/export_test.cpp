@@ -239,6 +239,29 @@ TEST_CASE("an .obj loads back with its vertices, triangles and original nodes", 
   CHECK_THAT(text.str(), Catch::Contains("newmtl fibre") && Catch::Contains("map_Kd print.png"));
 }
 
+TEST_CASE("a mesh names its frame, step, time, fps and digest", "[export]") {
+  const World w = torn_sheet(6, 4, 1);
+  const SurfaceMesh mesh = build_surface_mesh(w);
+  TempDir dir;
+  const FrameInfo info{3, 120, 22.5, 24, 0x00ab3eaf0b63a742ull};
+  export_glb(mesh, dir.path / "f.glb", {.frame = info});
+  export_obj(mesh, dir.path / "f.obj", {.frame = info});
+  tinygltf::TinyGLTF loader;
+  tinygltf::Model model;
+  std::string err, warn;
+  REQUIRE(loader.LoadBinaryFromFile(&model, &err, &warn, (dir.path / "f.glb").string()));
+  const tinygltf::Value& x = model.asset.extras;
+  CHECK(x.Get("frame").GetNumberAsInt() == 3);
+  CHECK(x.Get("step").GetNumberAsDouble() == 120.0);
+  CHECK(x.Get("time_us").GetNumberAsDouble() == 22.5);
+  CHECK(x.Get("fps").GetNumberAsInt() == 24);
+  CHECK(x.Get("digest").Get<std::string>() == "00ab3eaf0b63a742");
+  std::ifstream obj(dir.path / "f.obj");
+  std::stringstream text;
+  text << obj.rdbuf();
+  CHECK_THAT(text.str(), Catch::Contains("# frame 3 step 120 time_us 22.5 fps 24 digest 00ab3eaf0b63a742\n"));
+}
+
 TEST_CASE("exports leave no temporary files behind", "[export]") {
   const World w = torn_sheet(6, 4, 2);
   const SurfaceMesh mesh = build_surface_mesh(w);
