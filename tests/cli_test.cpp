@@ -282,7 +282,12 @@ TEST_CASE("papertear run: summary.json agrees with stdout", "[cli]") {
     std::sort(files.begin(), files.end());
     return files;
   };
-  CHECK(files_in(out) == std::vector<std::string>{"frames", "mesh", "summary.json"});
+  // ffmpeg is among the packages tools/install-deps.sh installs: the video is made by default.
+  CHECK(files_in(out) ==
+        std::vector<std::string>{"animation.glb", "frames", "mesh", "summary.json", "video.mp4"});
+  // The end of the run names what an artist opens first.
+  CHECK_THAT(r.out, Catch::Contains("video: " + (out / "video.mp4").string() + "\n") &&
+                        Catch::Contains("animation: " + (out / "animation.glb").string() + "\n"));
   CHECK(files_in(out / "frames") == std::vector<std::string>{"frame_0000.png", "frame_0001.png"});
   CHECK(files_in(out / "mesh") == std::vector<std::string>{"frame_0001.glb"});  // the last frame
 }

@@ -22,10 +22,12 @@
 #include "tools/render/render.hpp"
 #include "tools/render/video.hpp"
 #include "tools/run_frames.hpp"
+#include "tests/gltf_files.hpp"
 
 using namespace papertear;
 using namespace papertear::render;
 namespace fs = std::filesystem;
+using papertear::testing::read_floats;
 
 namespace {
 
@@ -74,16 +76,6 @@ World torn_sheet(int nx, int ny, int nl) {
     }
   }
   return w;
-}
-
-std::vector<float> read_floats(const tinygltf::Model& m, int accessor_index) {
-  const tinygltf::Accessor& a = m.accessors[std::size_t(accessor_index)];
-  REQUIRE(a.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT);
-  const tinygltf::BufferView& v = m.bufferViews[std::size_t(a.bufferView)];
-  const std::size_t n = a.count * std::size_t(tinygltf::GetNumComponentsInType(std::uint32_t(a.type)));
-  std::vector<float> out(n);
-  std::memcpy(out.data(), m.buffers[std::size_t(v.buffer)].data.data() + v.byteOffset + a.byteOffset, n * sizeof(float));
-  return out;
 }
 
 // What the OBJ reader found.
@@ -150,29 +142,67 @@ TEST_CASE("a .glb loads back with its vertices, triangles and original nodes", "
   std::string err, warn;
   REQUIRE(loader.LoadBinaryFromFile(&model, &err, &warn, file.string()));
   INFO(err << warn);
-  REQUIRE(model.meshes.size() == 1);
+  // The sheet (print, paper and torn faces) and the frayed fibres, each a mesh of its own.
+  REQUIRE(model.meshes.size() == 2);
+  CHECK(model.meshes[0].name == "sheet");
+  CHECK(model.meshes[1].name == "fibres");
+  REQUIRE(model.nodes.size() == 2);
   const auto& prims = model.meshes[0].primitives;
-  REQUIRE(prims.size() == 3);  // print, paper, fibre
+  REQUIRE(prims.size() == 3);  // print, paper, torn faces
   std::size_t triangles = 0;
-  for (const auto& p : prims) {
-    triangles += model.accessors[std::size_t(p.indices)].count / 3;
-    CHECK(model.accessors[std::size_t(p.attributes.at("POSITION"))].count == mesh.vertex_count());
-    CHECK(p.attributes.count("NORMAL") == 1);
-    CHECK(p.attributes.count("TEXCOORD_0") == 1);
-  }
+  for (const auto& m : model.meshes)
+    for (const auto& p : m.primitives) {
+      triangles += model.accessors[std::size_t(p.indices)].count / 3;
+      CHECK(p.attributes.count("NORMAL") == (m.name == "sheet" ? 1u : 0u));  // fibres: flat-shaded
+      CHECK(p.attributes.count("TEXCOORD_0") == 1);
+    }
+  CHECK(model.accessors[std::size_t(prims[0].attributes.at("POSITION"))].count == mesh.sheet_vertices);
+  CHECK(mesh.sheet_triangles < mesh.triangle_count());
+  // The fibres share their vertices, and keep every corner where it was.
+  const auto& fibres = model.meshes[1].primitives.at(0);
+  const std::vector<float> fpos = read_floats(model, fibres.attributes.at("POSITION"));
+  CHECK(fpos.size() / 3 < (mesh.vertex_count() - mesh.sheet_vertices) / 2);
+  const tinygltf::Accessor& fi = model.accessors[std::size_t(fibres.indices)];
+  REQUIRE(fi.count == 3 * (mesh.triangle_count() - mesh.sheet_triangles));
+  const auto* findex = reinterpret_cast<const std::uint32_t*>(
+      model.buffers[0].data.data() + model.bufferViews[std::size_t(fi.bufferView)].byteOffset);
+  for (std::size_t t = mesh.sheet_triangles; t < mesh.triangle_count(); ++t)
+    for (std::size_t c = 0; c < 3; ++c) {
+      const std::uint32_t v = findex[3 * (t - mesh.sheet_triangles) + c];
+      const std::array<float, 3>& p = mesh.position[mesh.triangles[t][c]];
+      CHECK(fpos[3 * v] == p[0] * 0.001f);
+      CHECK(fpos[3 * v + 2] == -p[1] * 0.001f);
+    }
   CHECK(triangles == mesh.triangle_count());
   const std::vector<float> original = read_floats(model, prims[0].attributes.at("_ORIGINAL_NODE"));
   const std::vector<float> node = read_floats(model, prims[0].attributes.at("_NODE"));
-  REQUIRE(original.size() == mesh.vertex_count());
+  REQUIRE(original.size() == mesh.sheet_vertices);
+  const std::vector<float> ids = read_floats(model, prims[0].attributes.at("TEXCOORD_1"));  // for Blender
+  REQUIRE(ids.size() == 2 * mesh.sheet_vertices);
   bool saw_copy = false;
-  for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
+  for (std::size_t v = 0; v < mesh.sheet_vertices; ++v) {
     CHECK(original[v] == float(mesh.original_node[v]));
     CHECK(node[v] == float(mesh.node[v]));
+    CHECK(ids[2 * v] == node[v]);
+    CHECK(ids[2 * v + 1] == original[v]);
     saw_copy |= node[v] != original[v];
   }
   CHECK(saw_copy);
+  // glTF's frame: y up, metres; simulation (x, y, z) mm -> (x, z, -y) * 0.001.
   const std::vector<float> pos = read_floats(model, prims[0].attributes.at("POSITION"));
-  CHECK(pos[3 * 5 + 1] == mesh.position[5][1]);
+  const std::vector<float> normal = read_floats(model, prims[0].attributes.at("NORMAL"));
+  bool saw_height = false;
+  for (std::size_t v = 0; v < mesh.sheet_vertices; ++v) {
+    CHECK(pos[3 * v] == mesh.position[v][0] * 0.001f);
+    CHECK(pos[3 * v + 1] == mesh.position[v][2] * 0.001f);
+    CHECK(pos[3 * v + 2] == -mesh.position[v][1] * 0.001f);
+    CHECK(normal[3 * v + 1] == mesh.normal[v][2]);
+    saw_height |= pos[3 * v + 1] != 0.0f;
+  }
+  CHECK(saw_height);
+  REQUIRE(model.asset.extras.IsObject());
+  CHECK(model.asset.extras.Get("unit").Get<std::string>() == "m");
+  CHECK(model.asset.extras.Get("metres_per_unit").GetNumberAsDouble() == 0.001);
   // The print travels inside the file, as a PNG.
   REQUIRE(model.images.size() == 1);
   CHECK(model.images[0].width == 64);
@@ -195,7 +225,9 @@ TEST_CASE("an .obj loads back with its vertices, triangles and original nodes", 
   for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
     CHECK(obj.node[v][0] == mesh.original_node[v]);
     CHECK(obj.node[v][1] == mesh.node[v]);
-    CHECK(obj.v[v] == mesh.position[v]);  // shortest round-trip formatting is exact
+    // glTF's frame (y up, metres); shortest round-trip formatting is exact.
+    const std::array<float, 3> p = mesh.position[v];
+    CHECK(obj.v[v] == std::array<float, 3>{p[0] * 0.001f, p[2] * 0.001f, -p[1] * 0.001f});
   }
   for (const auto& f : obj.faces)
     for (long index : f) CHECK((index >= 1 && std::size_t(index) <= mesh.vertex_count()));
@@ -205,6 +237,29 @@ TEST_CASE("an .obj loads back with its vertices, triangles and original nodes", 
   std::stringstream text;
   text << mtl.rdbuf();
   CHECK_THAT(text.str(), Catch::Contains("newmtl fibre") && Catch::Contains("map_Kd print.png"));
+}
+
+TEST_CASE("a mesh names its frame, step, time, fps and digest", "[export]") {
+  const World w = torn_sheet(6, 4, 1);
+  const SurfaceMesh mesh = build_surface_mesh(w);
+  TempDir dir;
+  const FrameInfo info{3, 120, 22.5, 24, 0x00ab3eaf0b63a742ull};
+  export_glb(mesh, dir.path / "f.glb", {.frame = info});
+  export_obj(mesh, dir.path / "f.obj", {.frame = info});
+  tinygltf::TinyGLTF loader;
+  tinygltf::Model model;
+  std::string err, warn;
+  REQUIRE(loader.LoadBinaryFromFile(&model, &err, &warn, (dir.path / "f.glb").string()));
+  const tinygltf::Value& x = model.asset.extras;
+  CHECK(x.Get("frame").GetNumberAsInt() == 3);
+  CHECK(x.Get("step").GetNumberAsDouble() == 120.0);
+  CHECK(x.Get("time_us").GetNumberAsDouble() == 22.5);
+  CHECK(x.Get("fps").GetNumberAsInt() == 24);
+  CHECK(x.Get("digest").Get<std::string>() == "00ab3eaf0b63a742");
+  std::ifstream obj(dir.path / "f.obj");
+  std::stringstream text;
+  text << obj.rdbuf();
+  CHECK_THAT(text.str(), Catch::Contains("# frame 3 step 120 time_us 22.5 fps 24 digest 00ab3eaf0b63a742\n"));
 }
 
 TEST_CASE("exports leave no temporary files behind", "[export]") {
@@ -236,6 +291,7 @@ TEST_CASE("the run's render sinks write frames and meshes as [output] asks", "[e
     mesh = "both"
     mesh_frames = "last"
     video = false
+    animation = false
   )");
   TempDir dir;
   auto sinks = make_render_sinks(config, {}, dir.path);
@@ -270,7 +326,9 @@ TEST_CASE("a bad [output] table is named", "[export]") {
   CHECK_THAT(error_of("[output]\nmesh_frame = \"all\""), Catch::Contains("output.mesh_frames"));
   CHECK_THAT(error_of("[output]\nprefix = \"a/b\""), Catch::Contains("output.prefix"));
   CHECK_THAT(error_of("[output]\npng = 1"), Catch::Contains("output.png"));
-  CHECK(make_render_sinks(toml::parse("[output]\npng = false\nmesh = \"none\""), {}, "unused").empty());
+  CHECK_THAT(error_of("[output]\nanimation = \"yes\""), Catch::Contains("output.animation"));
+  CHECK(make_render_sinks(toml::parse("[output]\npng = false\nmesh = \"none\"\nanimation = false"), {}, "unused")
+            .empty());
 }
 
 TEST_CASE("without ffmpeg the video is skipped with one notice, with it video.mp4 appears", "[export]") {

@@ -26,16 +26,26 @@ PACKAGES=(
   gnuplot-nox            # sweep plots (papertear sweep); without it the sweep warns and skips them
   python3-dev            # the Python module (tools/python): headers,
   python3-pybind11       #   the bindings,
-  python3-numpy          #   arrays,
+  python3-numpy          #   arrays (and Debian's Blender for glTF import: it does not pull it in),
   python3-pytest         #   and its tests
+  ffmpeg                 # video.mp4 of every run; ffprobe checks it (client tests)
+  nodejs                 # client tests and the viewer: glTF validator, three.js, playwright-core
+  npm
+  blender                # client test: imports the run's glTF (tools/blender/)
+  chromium               # client test: the viewer in a headless browser
 )
 
 is_installed() {
   dpkg -s "$1" 2>/dev/null | grep -q '^Status: install ok installed$'
 }
 
+# Packages whose program may come from elsewhere: NodeSource's nodejs, say, carries its own
+# npm and conflicts with Debian's. Skipped when the program is already on the PATH.
+declare -A PROGRAM_OF=([npm]=npm)
+
 missing=()
 for pkg in "${PACKAGES[@]}"; do
+  if [[ -n "${PROGRAM_OF[$pkg]:-}" ]] && command -v "${PROGRAM_OF[$pkg]}" >/dev/null 2>&1; then continue; fi
   is_installed "$pkg" || missing+=("$pkg")
 done
 

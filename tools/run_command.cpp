@@ -106,7 +106,12 @@ void print_result(const io::SceneFile& file, const io::RunRecord& record, int th
   std::printf("wall time: %s, of which stepping %s (%.3g ms per step)\n",
               io::format_duration(record.wall_seconds).c_str(),
               io::format_duration(record.step_seconds).c_str(), per_step * 1e3);
-  if (out_dir) std::printf("summary: %s\n", (*out_dir / "summary.json").c_str());
+  if (!out_dir) return;
+  std::printf("summary: %s\n", (*out_dir / "summary.json").c_str());
+  // The files an artist opens first, when the run made them ([output] video, animation).
+  for (const char* name : {"video.mp4", "animation.glb"})
+    if (std::filesystem::exists(*out_dir / name))
+      std::printf("%s: %s\n", std::filesystem::path(name).stem().c_str(), (*out_dir / name).c_str());
 }
 
 }  // namespace

@@ -6,11 +6,13 @@
 #include <optional>
 
 #include "core/scene.hpp"
+#include "tools/render/animation.hpp"
 #include "tools/render/indenter_mesh.hpp"
 #include "tools/render/mesh_export.hpp"
 #include "tools/render/raytracer.hpp"
 #include "tools/render/surface.hpp"
 #include "tools/render/video.hpp"
+#include "tools/run_frames.hpp"
 #include "tools/toml_keys.hpp"
 
 namespace papertear::render {
@@ -19,7 +21,7 @@ namespace {
 
 const std::vector<std::string>& output_keys() {
   static const std::vector<std::string> keys = {"output.png", "output.prefix", "output.mesh", "output.mesh_frames",
-                                                "output.video", "output.video_fps"};
+                                                "output.video", "output.video_fps", "output.animation"};
   return keys;
 }
 
@@ -46,14 +48,13 @@ class RenderSink final : public io::FrameSink {
   void on_frame(const Simulation& sim, int frame, int frames, const Metrics&) override {
     const bool last = frame + 1 == frames;
     const bool mesh_due = (output_.glb || output_.obj) && (output_.mesh_every_frame || last);
+    const FrameInfo info{frame, sim.world().step, sim.time(), output_.video_fps, sim.digest()};
+    if (output_.animation) recording_.add_frame(sim.world(), info);
     if (!output_.png && !mesh_due) return;
     build_surface_mesh(sim.world(), renderer_.mesh_options(), mesh_);
     if (mesh_due) {
-      ExportOptions options;
-      const bool printed = renderer_.settings().print.enabled;
-      options.print = printed ? &renderer_.print() : nullptr;
-      options.print_file = printed ? output_.prefix + "_print.png" : "";
-      options.paper_color = renderer_.settings().paper_color;
+      ExportOptions options = export_options();
+      options.frame = info;
       if (output_.glb) export_glb(mesh_, mesh_dir() / numbered(output_.prefix, frame, ".glb"), options);
       if (output_.obj) export_obj(mesh_, mesh_dir() / numbered(output_.prefix, frame, ".obj"), options);
     }
@@ -63,7 +64,23 @@ class RenderSink final : public io::FrameSink {
     write_png(frames_dir() / numbered(output_.prefix, frame, ".png"), renderer_.draw(mesh_, *camera_));
   }
 
+  // The animation of the recorded frames, on the topology the run ended with. Not after a
+  // blow-up: the final state may hold non-finite values.
+  void on_finish(const Simulation& sim, const io::RunRecord& record) override {
+    if (!output_.animation || record.failure || recording_.frame_count() == 0) return;
+    recording_.write_glb(sim.world(), export_options(), out_dir_ / "animation.glb");
+  }
+
  private:
+  ExportOptions export_options() const {
+    ExportOptions options;
+    const bool printed = renderer_.settings().print.enabled;
+    options.print = printed ? &renderer_.print() : nullptr;
+    options.print_file = printed ? output_.prefix + "_print.png" : "";
+    options.paper_color = renderer_.settings().paper_color;
+    return options;
+  }
+
   std::filesystem::path frames_dir() const { return out_dir_ / "frames"; }
   std::filesystem::path mesh_dir() const { return out_dir_ / "mesh"; }
 
@@ -72,6 +89,7 @@ class RenderSink final : public io::FrameSink {
   OutputSettings output_;
   std::filesystem::path out_dir_;
   std::optional<Camera> camera_;
+  TearRecording recording_;  // every frame's node positions, for animation.glb
 };
 
 }  // namespace
@@ -100,6 +118,7 @@ OutputSettings parse_output_settings(const toml::table& root) {
       io::fail_at(*n, "output.mesh_frames", "expected \"last\" or \"all\", got \"" + which + "\"");
     o.mesh_every_frame = which == "all";
   }
+  if (const toml::node* n = t->get("animation")) o.animation = io::read_bool(*n, "output.animation");
   if (const toml::node* n = t->get("video")) o.video = io::read_bool(*n, "output.video");
   if (const toml::node* n = t->get("video_fps")) {
     o.video_fps = io::read_int(*n, "output.video_fps");
@@ -114,7 +133,7 @@ std::vector<std::unique_ptr<io::FrameSink>> make_render_sinks(const toml::table&
   const RenderSettings render = parse_render_settings(render_config, scene_dir);
   const OutputSettings output = parse_output_settings(render_config);
   std::vector<std::unique_ptr<io::FrameSink>> sinks;
-  if (!output.png && !output.glb && !output.obj) return sinks;
+  if (!output.png && !output.glb && !output.obj && !output.animation) return sinks;
   try {
     sinks.push_back(std::make_unique<RenderSink>(render, output, out_dir));
     if (output.png && output.video) {

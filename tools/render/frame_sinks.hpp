@@ -6,6 +6,9 @@
 //   prefix = "frame"        # file name prefix
 //   mesh = "none"           # "none", "glb", "obj" or "both"
 //   mesh_frames = "last"    # "last" (the final frame only) or "all"
+//   animation = true        # animation.glb: the whole run as one animated mesh (animation.hpp)
+//   video = true            # video.mp4 from the PNG frames (video.hpp)
+//   video_fps = 15          # the video's frame rate, also the animation's and the meshes' "fps"
 //
 // The camera is fixed at the start of the run (the scene's [camera], or fitted to the
 // intact sheet), so the frames of a run line up. With OBJ output the print image is written
@@ -30,6 +33,7 @@ struct OutputSettings {
   bool mesh_every_frame = false;  // true: every frame (torn frames are tens of MB each)
   bool video = true;              // frames into video.mp4 when ffmpeg is on the PATH
   int video_fps = 15;
+  bool animation = true;          // DIR/animation.glb, next to summary.json
 };
 
 // Reads [output] from a scene's renderer sections. Throws SceneError naming the key.

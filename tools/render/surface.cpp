@@ -139,6 +139,8 @@ void build_surface_mesh(const World& world, const MeshOptions& options, SurfaceM
   // of grown arrays. The fibres come after the quads' triangles and vertices.
   mesh.resize(quads.vertex_count() + 3 * fibres.triangle_count(), quads.triangle_count() + fibres.triangle_count());
   quads.write(opacity, mesh);
+  mesh.sheet_vertices = quads.vertex_count();
+  mesh.sheet_triangles = quads.triangle_count();
   if (options.fray)
     write_fibres(world, faces, options.fray_length, opacity, fibres, {quads.triangle_count(), quads.vertex_count()},
                  mesh);

@@ -81,6 +81,9 @@ struct SurfaceMesh {
   MeshArray<std::uint32_t> cell;
   MeshArray<float> opacity;  // 1, or less for a peeled skin (peel.hpp)
   MeshArray<float> shade;    // albedo factor: fibres vary a little in brightness
+  // Vertices and triangles [0, sheet_*) are the sheet's faces (welded quads, weld.hpp); the
+  // frayed fibres (and, when drawn, the indenter) come after them.
+  std::size_t sheet_vertices = 0, sheet_triangles = 0;
 
   std::size_t vertex_count() const { return position.size(); }
   std::size_t triangle_count() const { return triangles.size(); }

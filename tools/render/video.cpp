@@ -50,11 +50,12 @@ void VideoSink::on_finish(const Simulation&, const io::RunRecord&) {
     return;
   }
   // Written under a temporary name and renamed, like every output: never a half video.
+  // H.264 in yuv420p with the index at the front: what browsers play, as they download it.
   const std::filesystem::path video = out_dir_ / "video.mp4", partial = out_dir_ / ".video.mp4.partial";
   const bool ok = run_program({ffmpeg->string(), "-loglevel", "error", "-y", "-framerate", std::to_string(fps_),
                                "-i", (frames_dir_ / (prefix_ + "_%04d.png")).string(), "-vf",
-                               "scale=trunc(iw/2)*2:trunc(ih/2)*2", "-pix_fmt", "yuv420p", "-f", "mp4",
-                               partial.string()});
+                               "scale=trunc(iw/2)*2:trunc(ih/2)*2", "-c:v", "libx264", "-pix_fmt", "yuv420p",
+                               "-movflags", "+faststart", "-f", "mp4", partial.string()});
   std::error_code ec;
   if (ok) std::filesystem::rename(partial, video, ec);
   if (!ok || ec) {

@@ -1,4 +1,5 @@
-// The frames of a run assembled into DIR/video.mp4, when ffmpeg is on the PATH. Without it
+// The frames of a run assembled into DIR/video.mp4 (H.264, yuv420p, one video frame per
+// frame of the run at output.video_fps), when ffmpeg is on the PATH. Without it
 // the run says so once and carries on: the video is a convenience, the frames are the output.
 #pragma once
 #include <filesystem>
