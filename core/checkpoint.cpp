@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/atomic_file.hpp"
+#include "core/input_file.hpp"
 #include "core/invariants.hpp"
 #include "core/lattice_builder.hpp"
 
@@ -517,19 +518,12 @@ void check_header(std::string_view bytes, std::string_view& payload) {
   }
 }
 
-[[noreturn]] void io_error(const std::string& path, const std::string& what) {
-  throw CheckpointError(Kind::Io, path + ": " + what + " (" + std::strerror(errno) + ")");
-}
-
 std::string read_file(const std::string& path) {
-  std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
-  if (!f) io_error(path, "cannot open the checkpoint");
-  std::string bytes;
-  char buf[1 << 16];
-  std::size_t n;
-  while ((n = std::fread(buf, 1, sizeof buf, f.get())) > 0) bytes.append(buf, n);
-  if (std::ferror(f.get())) io_error(path, "cannot read the checkpoint");
-  return bytes;
+  try {
+    return read_input_file(path, kCheckpointKind);
+  } catch (const InputFileError& e) {
+    throw CheckpointError(Kind::Io, e.what());
+  }
 }
 
 // Every error names its origin: "checkpoint" in memory, the path for a file.

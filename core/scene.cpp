@@ -1,6 +1,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <string>
 #include <unistd.h>
 
@@ -88,11 +89,29 @@ void non_negative(double v, const char* key) {
   require(v >= 0.0, key, "must not be negative (got " + std::to_string(v) + ")");
 }
 
+// "<what> (got <value>, the bound is <bound>)": the message for a value above its limit.
+// Whole numbers without a fraction, others as %g.
+std::string number_text(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.10g", v);
+  return buf;
+}
+
+template <class T, class B>
+void at_most(T value, B bound, const char* key, const char* what = "must be at most") {
+  require(value <= bound, key, std::string(what) + " " + number_text(double(bound)) + " (got " + number_text(double(value)) + ")");
+}
+
 void validate_sheet(const SheetParams& s) {
   const char* keys[3] = {"sheet.cells[0] (nx)", "sheet.cells[1] (ny)", "sheet.cells[2] (layers)"};
   for (int a = 0; a < 3; ++a)
     require(s.cells[std::size_t(a)] >= 1, keys[a],
             "must be at least 1 (got " + std::to_string(s.cells[std::size_t(a)]) + ")");
+  at_most(s.cells[0], limits::kMaxCellsAlong, keys[0]);
+  at_most(s.cells[1], limits::kMaxCellsAlong, keys[1]);
+  at_most(s.cells[2], limits::kMaxLayers, keys[2]);
+  at_most(std::int64_t(s.cells[0]) * s.cells[1] * s.cells[2], limits::kMaxCells, "sheet.cells",
+          "nx * ny * layers must be at most");
   for (int a = 0; a < 3; ++a) positive(s.cell_size[std::size_t(a)], "sheet.cell_size");
   const std::uint64_t bytes = estimate_memory_bytes(s);
   const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
@@ -120,6 +139,9 @@ void validate_material(const MaterialParams& m) {
   non_negative(m.damping, "material.damping");
   require(std::isfinite(m.fiber_length) && m.fiber_length >= 1.0, "material.fiber_length",
           "must be at least 1 cell");
+  at_most(m.fiber_length, limits::kMaxFibreLength, "material.fiber_length");
+  at_most(m.block_width, limits::kMaxBlockSize, "material.block_width");
+  at_most(m.block_depth, limits::kMaxBlockSize, "material.block_depth");
   non_negative(m.fiber_length_sigma, "material.fiber_length_sigma");
   require(m.block_width >= 1, "material.block_width", "must be at least 1");
   require(m.block_depth >= 1, "material.block_depth", "must be at least 1");
@@ -208,6 +230,7 @@ void validate_line(const LineParams& line, std::size_t index, const SheetParams&
   require(known, key("kind").c_str(), "must be \"cut\", \"score\" or \"perforation\" (got \"" + line.kind + "\")");
   require(line.points.size() >= 2, key("points").c_str(),
           "needs at least 2 points (got " + std::to_string(line.points.size()) + ")");
+  at_most(line.points.size(), limits::kMaxLinePoints, key("points").c_str(), "may have at most");
   const double nx = s.cells[0], ny = s.cells[1];
   for (std::size_t i = 0; i < line.points.size(); ++i) {
     const auto& p = line.points[i];
@@ -221,11 +244,31 @@ void validate_line(const LineParams& line, std::size_t index, const SheetParams&
   require(line.depth >= 0 && line.depth <= s.cells[2], key("depth").c_str(),
           "must be 0 (all layers) to " + std::to_string(s.cells[2]) + " (got " + std::to_string(line.depth) + ")");
   positive(line.pitch, key("pitch").c_str());
+  require(line.pitch >= limits::kMinPitch, key("pitch").c_str(),
+          "must be at least " + std::to_string(limits::kMinPitch) + " cells (got " + std::to_string(line.pitch) + ")");
   require(std::isfinite(line.duty) && line.duty >= 0.0 && line.duty <= 1.0, key("duty").c_str(),
           "must be in [0, 1] (got " + std::to_string(line.duty) + ")");
 }
 
 }  // namespace
+
+const std::vector<SceneLimit>& scene_limits() {
+  using namespace limits;
+  static const std::vector<SceneLimit> table = {
+      {"sheet.cells[0], sheet.cells[1]", kMaxCellsAlong, "cells along x and along y"},
+      {"sheet.cells[2]", kMaxLayers, "layers"},
+      {"sheet.cells", double(kMaxCells), "cells in all (and the machine's memory)"},
+      {"run.steps", kMaxSteps, "steps"},
+      {"run.frames", kMaxFrames, "frames (a run writes at most one per step)"},
+      {"line", double(kMaxLines), "[[line]] tables"},
+      {"line.points", double(kMaxLinePoints), "points per line"},
+      {"line.pitch", kMinPitch, "cells per perforation hole and land, at least"},
+      {"material.fiber_length", kMaxFibreLength, "cells, mean block length"},
+      {"material.block_width, block_depth", kMaxBlockSize, "cells"},
+      {"--threads", kMaxThreads, "worker threads"},
+  };
+  return table;
+}
 
 const std::array<const char*, 3>& line_kind_names() {
   static constexpr std::array<const char*, 3> names = {"cut", "score", "perforation"};
@@ -239,11 +282,14 @@ void validate(const Scene& scene) {
   for (double g : scene.world.gravity) require(std::isfinite(g), "world.gravity", "must be finite");
   non_negative(scene.world.drag, "world.drag");
   require(scene.run.steps >= 0, "run.steps", "must not be negative");
+  at_most(scene.run.steps, limits::kMaxSteps, "run.steps");
   non_negative(scene.run.dt, "run.dt");
   positive(scene.run.dt_safety, "run.dt_safety");
   require(scene.run.dt_safety <= 1.0, "run.dt_safety", "must be at most 1");
   require(scene.run.frames >= 1, "run.frames", "must be at least 1");
+  at_most(scene.run.frames, limits::kMaxFrames, "run.frames");
   require(scene.run.max_splits_per_step >= 0, "run.max_splits_per_step", "must not be negative");
+  at_most(scene.lines.size(), limits::kMaxLines, "line", "a scene may have at most");
   for (std::size_t i = 0; i < scene.lines.size(); ++i) validate_line(scene.lines[i], i, scene.sheet);
 }
 

@@ -90,7 +90,7 @@ struct RunParams {
   int steps = 1200;             // run.steps
   double dt = 0.0;              // run.dt: 0 means "auto" (stable limit × dt_safety)
   double dt_safety = 0.5;       // run.dt_safety
-  int frames = 30;              // run.frames: how many frames the CLI writes
+  int frames = 30;              // run.frames: how many frames the CLI writes (at most one per step)
   std::uint64_t seed = 1;       // run.seed: block layout and strength jitter
   int max_splits_per_step = 0;  // run.max_splits_per_step: 0 = no cap
 };
@@ -128,6 +128,31 @@ const std::array<const char*, 4>& material_preset_names();
 
 // The kinds a LineParams may have, in a fixed order.
 const std::array<const char*, 3>& line_kind_names();
+
+// Upper bounds on every count and size a scene may ask for. validate() checks them before
+// anything is allocated or looped over, so a runaway value (a typo, a fuzzer, a generated
+// file) costs an error line, not a hang or the machine's memory. They are far above any
+// real use: the largest sheet the bench runs is 1000 x 1000 x 5 cells.
+struct SceneLimit {
+  const char* key;
+  double bound;
+  const char* what;
+};
+namespace limits {
+inline constexpr int kMaxCellsAlong = 100'000;           // sheet.cells[0], sheet.cells[1]
+inline constexpr int kMaxLayers = 64;                    // sheet.cells[2]
+inline constexpr std::int64_t kMaxCells = 50'000'000;    // nx * ny * layers
+inline constexpr int kMaxSteps = 100'000'000;            // run.steps
+inline constexpr int kMaxFrames = 100'000;               // run.frames (a run writes at most one per step)
+inline constexpr std::size_t kMaxLines = 1'000;          // [[line]] tables
+inline constexpr std::size_t kMaxLinePoints = 10'000;    // points of one line
+inline constexpr double kMinPitch = 0.01;                // line.pitch, in cells
+inline constexpr double kMaxFibreLength = 100'000.0;     // material.fiber_length, in cells
+inline constexpr int kMaxBlockSize = 1'000;              // material.block_width, block_depth
+inline constexpr int kMaxThreads = 4'096;                // --threads, Simulation options
+}  // namespace limits
+// The bounds above with their keys, for `papertear info` and the README.
+const std::vector<SceneLimit>& scene_limits();
 
 // Throws SceneError ("<key>: <what is wrong>") for the first impossible value: sizes that
 // are zero or negative, non-finite numbers, unknown grain or load kind, a sheet too large

@@ -23,6 +23,9 @@ struct Simulation::Impl {
   tbb::task_arena* arena = nullptr;
 
   Impl(World w, SimulationOptions opt) : world(std::move(w)) {
+    if (opt.threads < 0 || opt.threads > limits::kMaxThreads)
+      throw SceneError("threads: must be 0 (all hardware threads) to " + std::to_string(limits::kMaxThreads) +
+                       " (got " + std::to_string(opt.threads) + ")");
     if (opt.arena) {
       arena = opt.arena;
     } else {

@@ -2,7 +2,7 @@
 // number of them can live in one process. Results are bit-for-bit the same on any thread
 // count: see kernels/parallel.hpp for why.
 //
-//   papertear::Scene scene;                 // defaults: the paper's 90 × 90 × 5 experiment
+//   papertear::Scene scene;                 // defaults: a thin 120 × 80 × 3 copy sheet
 //   scene.sheet.cells = {30, 30, 5};
 //   papertear::Simulation sim(scene, {.threads = 2});
 //   sim.step(100);

@@ -3,12 +3,14 @@
 #include <algorithm>
 #include <atomic>
 #include <cassert>
+#include <cmath>
 #include <limits>
 #include <sstream>
 
 #include "core/contact.hpp"
 #include "core/lattice_builder.hpp"
 #include "core/simulation.hpp"
+#include "core/timestep.hpp"
 #include "kernels/cell_forces.hpp"
 #include "kernels/parallel.hpp"
 #include "kernels/rk4.hpp"
@@ -82,7 +84,9 @@ StageParams stage_params(const World& w, int stage) {
       << " (lattice vertex " << w.nodes.vertex[node] << ") reached position (" << w.nodes.px[node]
       << ", " << w.nodes.py[node] << ", " << w.nodes.pz[node] << ") velocity (" << w.nodes.vx[node]
       << ", " << w.nodes.vy[node] << ", " << w.nodes.vz[node]
-      << "); the time step is probably too large for the material (try a smaller run.dt or dt_safety)";
+      << "), speed " << std::sqrt(double(w.nodes.vx[node]) * w.nodes.vx[node] + double(w.nodes.vy[node]) * w.nodes.vy[node] +
+                                 double(w.nodes.vz[node]) * w.nodes.vz[node])
+      << " mm/µs; " << blow_up_cause(w);
   throw BlowUpError(msg.str(), w.step + 1, node);
 }
 

@@ -71,6 +71,47 @@ double stable_dt_limit(const World& w) {
   return lo;
 }
 
+double in_plane_wave_speed(const MaterialParams& m) { return std::sqrt(std::min(m.E_md, m.E_cd) / m.density); }
+
+namespace {
+
+// A load at a tenth of the wave speed already tears the sheet as a shock front, not as paper
+// being pulled (the defaults pull at 2 %); far above it the lattice cannot carry it at all.
+constexpr double kFastLoad = 0.1;
+// A penalty contact this many times the stiffest spring dominates the step's stability.
+constexpr double kStiffContact = 100.0;
+// At this share of the stable limit RK4's damping of the stiffest modes is nearly gone.
+constexpr double kStepNearLimit = 0.8;
+
+}  // namespace
+
+std::string blow_up_cause(const World& w) {
+  const LoadParams& l = w.scene.load;
+  const double c = in_plane_wave_speed(w.scene.material), speed = std::abs(l.speed);
+  std::ostringstream out;
+  out.precision(3);
+  if (l.kind != "none" && speed > kFastLoad * c) {
+    out << "likely cause: load.speed " << speed << " mm/µs is " << speed / c
+        << " times the sheet's in-plane wave speed " << c
+        << " mm/µs, so the load outruns the lattice (keep it below about " << kFastLoad * c << ")";
+    return out.str();
+  }
+  if (l.kind == "pierce" && l.contact_stiffness > kStiffContact) {
+    out << "likely cause: load.contact_stiffness " << l.contact_stiffness
+        << " is far above the sheet's own stiffness (1 is its stiffest spring; the default is 10)";
+    return out.str();
+  }
+  const double share = w.dt / stable_dt_limit(w);
+  if (share > kStepNearLimit) {
+    out << "likely cause: the time step, " << 100.0 * share
+        << " % of the stable limit (lower run.dt_safety or run.dt)";
+    return out.str();
+  }
+  out << "no input stands out (load.speed is " << 100.0 * speed / c << " % of the wave speed, the step "
+      << 100.0 * share << " % of the stable limit): try a smaller run.dt_safety";
+  return out.str();
+}
+
 double choose_dt(const World& w) {
   const double limit = stable_dt_limit(w);
   const double dt = w.scene.run.dt;

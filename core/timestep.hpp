@@ -11,6 +11,8 @@
 // bisection on dt, checking ω² on a fine grid. (Checking the roots against the exact RK4
 // region matters: a disc-shaped bound would halve the step whenever damping is on.)
 #pragma once
+#include <string>
+
 #include "core/world.hpp"
 
 namespace papertear {
@@ -20,5 +22,15 @@ double stable_dt_limit(const World& world);
 // The step a run uses: run.dt if set (refused with SceneError when above the limit),
 // otherwise the limit times run.dt_safety.
 double choose_dt(const World& world);
+
+// The slower of the sheet's two in-plane longitudinal wave speeds, sqrt(E / density) with E
+// the smaller of E_md and E_cd, in mm/µs (MPa over kg/m³ gives (mm/µs)² exactly).
+double in_plane_wave_speed(const MaterialParams& material);
+
+// For a run that diverged: which input most likely made it, as one clause for the error
+// line ("likely cause: ..."). It weighs a load faster than the sheet's waves, a penalty
+// contact far stiffer than the sheet, and a step near the stable limit, in that order: the
+// step is stable by construction (choose_dt), so a blow-up at a safe step is the load's.
+std::string blow_up_cause(const World& world);
 
 }  // namespace papertear

@@ -329,7 +329,7 @@ TEST_CASE("checkpoint files: errors name the path, saving replaces atomically", 
     FAIL("a missing file was read");
   } catch (const pt::CheckpointError& e) {
     CHECK(e.kind == Kind::Io);
-    CHECK_THAT(e.what(), Contains("missing.ptck") && Contains("No such file"));
+    CHECK_THAT(e.what(), Contains("missing.ptck") && Contains("checkpoint not found"));
   }
   std::ofstream(dir / "scene.toml") << "[sheet]\ncells = [6, 6, 2]\n";
   CHECK_THROWS_WITH(pt::load_checkpoint((dir / "scene.toml").string()),

@@ -8,7 +8,7 @@
 
 namespace papertear::cli {
 
-std::vector<std::unique_ptr<io::FrameSink>> make_frame_sinks(const io::SceneFile& scene,
+std::vector<std::unique_ptr<io::FrameSink>> make_frame_sinks(const io::SceneFile& scene, const Simulation& sim,
                                                              const std::filesystem::path* out_dir) {
   // A relative print image is found from the scene file's folder (the working directory
   // for the built-in scene).
@@ -20,7 +20,9 @@ std::vector<std::unique_ptr<io::FrameSink>> make_frame_sinks(const io::SceneFile
     render::parse_output_settings(scene.render_config);
     return {};
   }
-  return render::make_render_sinks(scene.render_config, scene_dir, *out_dir);
+  auto sinks = render::make_render_sinks(scene.render_config, scene_dir, *out_dir);
+  for (const auto& sink : sinks) sink->check(sim);
+  return sinks;
 }
 
 }  // namespace papertear::cli

@@ -1,6 +1,10 @@
 // The `papertear` program: command-line parsing (CLI11) and dispatch to the subcommands.
 #include <CLI/CLI.hpp>
 
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+
 #include "tools/commands.hpp"
 
 #ifndef PAPERTEAR_VERSION
@@ -11,6 +15,10 @@ namespace papertear::cli {
 
 namespace {
 
+// An option given as an empty string ("--out ''") is a mistake, not "no directory".
+const CLI::Validator kNotEmpty(
+    [](std::string& value) { return value.empty() ? std::string("must not be empty") : std::string(); }, "", "not empty");
+
 constexpr const char* kSetHelp =
     "Override a scene key by its dotted name, e.g. --set sheet.cells=[30,30,5] "
     "--set material.grain=y (a TOML value; a bare word is a string). Repeatable.";
@@ -20,7 +28,7 @@ void add_scene_options(CLI::App& cmd, SceneOptions& o) {
                  "Scene file (TOML). Without one: the built-in default, the paper's experiment");
   cmd.add_option("--set", o.sets, kSetHelp)->type_name("KEY=VALUE")->allow_extra_args(false);
   cmd.add_option("--threads", o.threads, "Worker threads (0: all hardware threads)")
-      ->check(CLI::Range(0, 4096))
+      ->check(CLI::Range(0, papertear::limits::kMaxThreads))
       ->default_val(0);
 }
 
@@ -42,7 +50,8 @@ void add_sweep_options(CLI::App& cmd, SweepOptions& o) {
   cmd.add_option("sweep_file", o.sweep_file, "Sweep file (TOML): base scene, seeds, [set], [grid] or [[point]]")
       ->required();
   cmd.add_option("--out", o.out_dir, "Output directory: points/, sweep.csv, sweep.json, plots/")
-      ->type_name("DIR");
+      ->type_name("DIR")
+      ->check(kNotEmpty);
   cmd.add_option("--index", o.index, "Run point I only and write DIR/points/point_I.json (a job-array task)")
       ->type_name("I");
   cmd.add_flag("--count", o.count, "Print the number of points and exit");
@@ -50,13 +59,21 @@ void add_sweep_options(CLI::App& cmd, SweepOptions& o) {
                  "Merge DIR/points/*.json into DIR/sweep.csv, sweep.json and plots/; fails naming missing points")
       ->type_name("DIR");
   cmd.add_option("--jobs,-j", o.jobs, "Points run at a time (0: hardware threads / --threads)")
-      ->check(CLI::Range(0, 4096))
+      ->check(CLI::Range(0, papertear::limits::kMaxThreads))
       ->default_val(0);
   cmd.add_option("--threads", o.threads,
                  "Worker threads per point (0: 1 for a whole sweep, all hardware threads with --index)")
-      ->check(CLI::Range(0, 4096))
+      ->check(CLI::Range(0, papertear::limits::kMaxThreads))
       ->default_val(0);
   cmd.add_flag("--quiet,-q", o.quiet, "No progress lines");
+}
+
+// What a command printed on stdout (the digest line, info's table) is its result: when it
+// cannot be written (a full disk, a closed pipe), the command failed.
+int finish_stdout(int code) {
+  if (std::fflush(stdout) == 0 && !std::ferror(stdout)) return code;
+  print_error(std::string("cannot write the result to standard output (") + std::strerror(errno) + ")");
+  return code == kExitOk ? kExitOutput : code;
 }
 
 }  // namespace
@@ -78,7 +95,8 @@ int main(int argc, char** argv) {
   CLI::App* run_cmd = app.add_subcommand("run", "Run a scene; print the state digest last");
   add_scene_options(*run_cmd, run.scene);
   run_cmd->add_option("--out", run.out_dir, "Output directory for summary.json (and frames)")
-      ->type_name("DIR");
+      ->type_name("DIR")
+      ->check(kNotEmpty);
   run_cmd->add_option("--steps", run.steps, "Number of steps (overrides run.steps)");
   run_cmd->add_option("--frames", run.frames, "Number of frames (overrides run.frames)");
   run_cmd->add_flag("--quiet,-q", run.quiet, "Print only errors and the final digest line");
@@ -95,9 +113,10 @@ int main(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber);
   resume_cmd->add_option("--out", resume.out_dir,
                          "Output directory (default: DIR of DIR/checkpoints/step_N.ptck, the run's own)")
-      ->type_name("DIR");
+      ->type_name("DIR")
+      ->check(kNotEmpty);
   resume_cmd->add_option("--threads", resume.threads, "Worker threads (0: all hardware threads)")
-      ->check(CLI::Range(0, 4096))
+      ->check(CLI::Range(0, papertear::limits::kMaxThreads))
       ->default_val(0);
   resume_cmd->add_flag("--quiet,-q", resume.quiet, "Print only errors and the final digest line");
   add_checkpoint_options(*resume_cmd, resume.checkpoints);
@@ -117,9 +136,10 @@ int main(int argc, char** argv) {
       ->default_val(3);
   calibrate_cmd->add_flag("--quick", calibrate.quick, "Small specimens: faster, noisier");
   calibrate_cmd->add_option("--out", calibrate.out_dir, "Write calibration.md and calibration.json here")
-      ->type_name("DIR");
+      ->type_name("DIR")
+      ->check(kNotEmpty);
   calibrate_cmd->add_option("--threads", calibrate.threads, "Worker threads (0: all hardware threads)")
-      ->check(CLI::Range(0, 4096))
+      ->check(CLI::Range(0, papertear::limits::kMaxThreads))
       ->default_val(0);
   calibrate_cmd->add_flag("--quiet,-q", calibrate.quiet, "Print only errors and the table");
 
@@ -136,9 +156,16 @@ int main(int argc, char** argv) {
     print_error(std::string(e.what()) + " (see papertear --help)");
     return kExitBadInput;
   }
-  if (run_cmd->parsed()) return run_command(run);
-  if (resume_cmd->parsed()) return resume_command(resume);
-  if (calibrate_cmd->parsed()) return calibrate_command(calibrate);
-  if (sweep_cmd->parsed()) return sweep_command(sweep);
-  return info_command(info);
+  int code = kExitOk;
+  if (run_cmd->parsed())
+    code = run_command(run);
+  else if (resume_cmd->parsed())
+    code = resume_command(resume);
+  else if (calibrate_cmd->parsed())
+    code = calibrate_command(calibrate);
+  else if (sweep_cmd->parsed())
+    code = sweep_command(sweep);
+  else
+    code = info_command(info);
+  return finish_stdout(code);
 }

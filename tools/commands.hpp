@@ -106,14 +106,18 @@ Simulation make_simulation(const io::SceneFile& file, int threads);
 int resolved_threads(int requested);
 // io::check_output_dir with the error naming the --out option. Throws io::OutputError.
 void check_output_dir_option(const std::filesystem::path& dir);
+// check_output_dir_option, and no file or directory a run writes (summary.json, frames/...)
+// is in the way as the other kind. Throws io::OutputError.
+void check_run_outputs(const std::filesystem::path& dir);
 // Prints "papertear: error: <message>" on stderr.
 void print_error(const std::string& message);
 
 // The frame sinks of a run (tools/cli_frame_sinks.cpp): the renderer's PNG frames and meshes.
 // Called after the scene is resolved and before the output directory is created; `out_dir`
 // is null without --out (then no sinks, but the render sections are still checked).
-// Throws papertear::SceneError for a bad [render]/[output] section.
-std::vector<std::unique_ptr<io::FrameSink>> make_frame_sinks(const io::SceneFile& scene,
+// Each sink is checked against `sim` (FrameSink::check). Throws papertear::SceneError for a
+// bad [render]/[output] section.
+std::vector<std::unique_ptr<io::FrameSink>> make_frame_sinks(const io::SceneFile& scene, const Simulation& sim,
                                                              const std::filesystem::path* out_dir);
 
 }  // namespace papertear::cli

@@ -7,6 +7,9 @@
 //  * its constructor checks its configuration and throws papertear::SceneError for bad
 //    input, but writes nothing: the CLI creates the output directory only after every
 //    sink has been constructed, so bad input leaves no files behind;
+//  * check() runs before the output directory is created, with the simulation built: what
+//    needs the sheet (a camera fitted to it) is checked there, so that it fails before
+//    the first step and not at the first frame;
 //  * on_start() runs once the output directory exists, before the first step;
 //  * on_frame() gets the simulation paused after the frame's last step (read-only views
 //    are valid until the call returns) and that frame's metrics;
@@ -25,6 +28,7 @@ struct RunRecord;
 class FrameSink {
  public:
   virtual ~FrameSink() = default;
+  virtual void check(const Simulation& sim) const { (void)sim; }
   virtual void on_start(const Simulation& sim) { (void)sim; }
   // `frame` counts from 0 to frames - 1, the frames of the run's plan (run.frames, or more
   // when a resumed run goes on past it: resume --steps).

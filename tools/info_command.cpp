@@ -8,8 +8,11 @@
 #include <string>
 
 #include "core/elasticity.hpp"
+#include "core/input_file.hpp"
+#include "core/timestep.hpp"
 #include "tools/commands.hpp"
 #include "tools/progress.hpp"
+#include "tools/render/settings.hpp"
 
 namespace papertear::cli {
 namespace {
@@ -113,6 +116,8 @@ double cube_stable_dt(const Scene& s) {
 void print_timing(const Scene& s, const Simulation& sim, double stable, int threads,
                   const StepTiming& timing) {
   std::printf("stable dt:      %.6g (cubes of the same in-plane size: %.6g)\n", stable, cube_stable_dt(s));
+  std::printf("wave speed:     %.4g mm/us in-plane (load.speed %.3g is %.2g %% of it)\n",
+              in_plane_wave_speed(s.material), s.load.speed, 100.0 * std::abs(s.load.speed) / in_plane_wave_speed(s.material));
   if (s.run.dt == 0.0)
     std::printf("dt used:        %.6g (auto: %g x stable limit)\n", sim.dt(), s.run.dt_safety);
   else
@@ -126,6 +131,18 @@ void print_timing(const Scene& s, const Simulation& sim, double stable, int thre
               io::format_duration(timing.seconds_per_step * s.run.steps).c_str());
 }
 
+// The bounds every count, size and input file is checked against before a run starts.
+void print_limits() {
+  std::printf("limits:\n");
+  for (const SceneLimit& l : scene_limits()) std::printf("  %-34s %.10g %s\n", l.key, l.bound, l.what);
+  std::printf("  %-34s %d pixels\n", "render.width, render.height", render::kMaxImageSide);
+  std::printf("  %-34s %d\n", "render.samples", render::kMaxSamples);
+  std::printf("  %-34s %d characters of [A-Za-z0-9._-]\n", "output.prefix", render::kMaxPrefixLength);
+  for (const InputKind* k : {&kSceneFileKind, &kSweepFileKind, &kCheckpointKind, &kPrintImageKind})
+    std::printf("  %-34s %llu MiB (regular files only; %s overrides)\n", k->name,
+                static_cast<unsigned long long>(input_cap_bytes(*k) >> 20), kInputCapVariable);
+}
+
 }  // namespace
 
 int info_command(const SceneOptions& options) {
@@ -137,6 +154,7 @@ int info_command(const SceneOptions& options) {
     double stable = Simulation::stable_dt_limit(file.scene);
     StepTiming timing = time_steps(sim);
     print_timing(file.scene, sim, stable, resolved_threads(options.threads), timing);
+    print_limits();
     return kExitOk;
   } catch (const BlowUpError& e) {
     print_error("the simulation blew up while timing steps (step " + std::to_string(e.step) +

@@ -45,6 +45,21 @@ void check_output_dir(const fs::path& dir) {
     fail(dir, "cannot create it in '" + ancestor.string() + "' (" + errno_text(errno) + ")");
 }
 
+void check_output_names(const fs::path& dir, std::initializer_list<const char*> files,
+                        std::initializer_list<const char*> dirs) {
+  std::error_code ec;
+  for (const char* name : files) {
+    const fs::file_status st = fs::symlink_status(dir / name, ec);
+    if (fs::exists(st) && !fs::is_regular_file(st))
+      fail(dir / name, "is in the way: the run writes a file of that name, and this is not a regular file");
+  }
+  for (const char* name : dirs) {
+    const fs::file_status st = fs::status(dir / name, ec);
+    if (fs::exists(st) && !fs::is_directory(st))
+      fail(dir / name, "is in the way: the run writes a directory of that name, and this is not one");
+  }
+}
+
 void create_output_dir(const fs::path& dir) {
   std::error_code ec;
   fs::create_directories(dir, ec);

@@ -4,6 +4,7 @@
 // that a reader (or a crashed run) never sees half a summary.json.
 #pragma once
 #include <filesystem>
+#include <initializer_list>
 #include <stdexcept>
 #include <string_view>
 
@@ -17,6 +18,12 @@ struct OutputError : std::runtime_error {
 // Throws OutputError if `dir` is not a writable directory and could not be created as one
 // (an ancestor is a file, or not writable). Creates nothing.
 void check_output_dir(const std::filesystem::path& dir);
+
+// Throws OutputError if, inside an existing `dir`, one of the `files` a command will write is
+// a directory (or anything but a regular file), or one of the `dirs` is not a directory: a
+// write there would fail only after the whole run. Creates nothing.
+void check_output_names(const std::filesystem::path& dir, std::initializer_list<const char*> files,
+                        std::initializer_list<const char*> dirs);
 
 // Creates `dir` and its missing parents. Throws OutputError.
 void create_output_dir(const std::filesystem::path& dir);

@@ -70,8 +70,8 @@ RunSession prepare(const ResumeOptions& options, const std::optional<fs::path>& 
                      state.scene_path, {}};
   Simulation sim(std::move(loaded.world), {.threads = options.threads});
   const fs::path* out_dir = out ? &*out : nullptr;
-  auto sinks = make_frame_sinks(file, out_dir);
-  if (out_dir) check_output_dir_option(*out_dir);
+  auto sinks = make_frame_sinks(file, sim, out_dir);
+  if (out_dir) check_run_outputs(*out_dir);
   return {std::move(file), std::move(sim), std::move(sinks), resolved_threads(options.threads),
           out, state.plan, std::move(state.record), options.checkpoints, options.quiet};
 }

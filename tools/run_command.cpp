@@ -36,8 +36,8 @@ RunSession prepare(const RunOptions& options, const std::filesystem::path* out_d
     throw SceneError("--checkpoint-every needs --out DIR (checkpoints go to DIR/checkpoints)");
   io::SceneFile file = resolve_scene(options.scene, step_overrides(options));
   Simulation sim = make_simulation(file, options.scene.threads);  // refuses a run.dt above the stable limit
-  auto sinks = make_frame_sinks(file, out_dir);
-  if (out_dir) check_output_dir_option(*out_dir);
+  auto sinks = make_frame_sinks(file, sim, out_dir);
+  if (out_dir) check_run_outputs(*out_dir);
   const io::FramePlan plan = io::FramePlan::for_run(file.scene.run, 0);
   std::optional<std::filesystem::path> out;
   if (out_dir) out = *out_dir;
@@ -122,6 +122,11 @@ void check_output_dir_option(const std::filesystem::path& dir) {
   } catch (const io::OutputError& e) {
     throw io::OutputError(std::string("--out ") + e.what());
   }
+}
+
+void check_run_outputs(const std::filesystem::path& dir) {
+  check_output_dir_option(dir);
+  io::check_output_names(dir, {"summary.json", "video.mp4", "animation.glb"}, {"frames", "mesh", "checkpoints"});
 }
 
 int run_command(const RunOptions& options) {

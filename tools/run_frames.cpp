@@ -94,7 +94,8 @@ std::int64_t frame_end_step(std::int64_t steps, int frames, int frame) {
 }
 
 FramePlan FramePlan::for_run(const RunParams& run, std::int64_t first_step) {
-  return {first_step, first_step + run.steps, run.steps, std::max(run.frames, 1)};
+  // A frame ends on a later step than the one before it: no more frames than steps.
+  return {first_step, first_step + run.steps, run.steps, std::clamp(run.frames, 1, std::max(run.steps, 1))};
 }
 
 int FramePlan::frame_count() const {

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "core/input_file.hpp"
 #include "tools/scene_fields.hpp"
 #include "tools/toml_keys.hpp"
 
@@ -309,15 +310,13 @@ SceneFile parse_scene(std::string_view text, std::string_view source_name,
 void rethrow_located(const SceneError& e, const SceneFile& file) { rethrow_located(e, file.document, file.path); }
 
 SceneFile load_scene_file(const std::string& path, std::span<const SetOverride> overrides) {
-  std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) throw SceneError(path + ": scene file not found");
-  if (std::filesystem::is_directory(path, ec))
-    throw SceneError(path + ": is a directory, not a scene file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw SceneError(path + ": cannot open scene file (" + std::strerror(errno) + ")");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parse_scene(text.str(), path, overrides);
+  std::string text;
+  try {
+    text = read_input_file(path, kSceneFileKind);
+  } catch (const InputFileError& e) {
+    throw SceneError(e.what());
+  }
+  return parse_scene(text, path, overrides);
 }
 
 SceneFile default_scene_file(std::span<const SetOverride> overrides) {

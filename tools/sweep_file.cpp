@@ -7,6 +7,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "core/input_file.hpp"
 #include "tools/summary.hpp"
 #include "tools/toml_keys.hpp"
 
@@ -22,16 +23,14 @@ const std::vector<std::string>& sweep_keys() {
 }
 
 toml::table parse_sweep_document(const std::filesystem::path& path) {
-  std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) throw SceneError(path.string() + ": sweep file not found");
-  if (std::filesystem::is_directory(path, ec))
-    throw SceneError(path.string() + ": is a directory, not a sweep file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw SceneError(path.string() + ": cannot open sweep file");
-  std::ostringstream text;
-  text << in.rdbuf();
+  std::string text;
   try {
-    return toml::parse(text.str(), path.string());
+    text = read_input_file(path.string(), kSweepFileKind);
+  } catch (const InputFileError& e) {
+    throw SceneError(e.what());
+  }
+  try {
+    return toml::parse(text, path.string());
   } catch (const toml::parse_error& e) {
     const auto& begin = e.source().begin;
     throw SceneError(path.string() + ":" + std::to_string(begin.line) + ":" +

@@ -6,6 +6,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "core/input_file.hpp"
 #include "tools/output_files.hpp"
 #include "tools/summary.hpp"
 
@@ -58,12 +59,7 @@ double separation_roughness(const std::vector<Metrics>& frames) {
 
 std::string hash_hex(std::uint64_t h) { return digest_hex(h); }
 
-std::string file_text(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream out;
-  out << in.rdbuf();
-  return out.str();
-}
+std::string file_text(const std::filesystem::path& path) { return read_input_file(path.string(), kPointResultKind); }
 
 std::string missing_message(const std::filesystem::path& dir, const std::vector<int>& missing, int count) {
   std::string names, indices;

@@ -8,6 +8,9 @@
 namespace papertear::io {
 namespace {
 
+// Longer than any scene key (the longest is about 30 characters).
+constexpr std::size_t kMaxKeyLength = 128;
+
 std::vector<std::string_view> split_dots(std::string_view key) {
   std::vector<std::string_view> parts;
   std::size_t start = 0;
@@ -156,6 +159,10 @@ std::string type_phrase(const toml::node& node) {
 void check_known_keys(const toml::table& table, std::string_view prefix,
                       std::span<const std::string> known) {
   for (const auto& [k, node] : table) {
+    // No key is this long: name it by its start, and spare the edit distances (quadratic).
+    if (k.str().size() > kMaxKeyLength)
+      fail_at(node, "", "unknown key of " + std::to_string(k.str().size()) + " characters ('" +
+                            std::string(k.str().substr(0, 32)) + "...')");
     std::string dotted = prefix.empty() ? std::string(k.str())
                                         : std::string(prefix) + "." + std::string(k.str());
     if (std::find(known.begin(), known.end(), dotted) != known.end()) continue;

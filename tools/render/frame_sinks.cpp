@@ -1,5 +1,6 @@
 #include "tools/render/frame_sinks.hpp"
 
+#include <cctype>
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
@@ -25,6 +26,20 @@ const std::vector<std::string>& output_keys() {
   return keys;
 }
 
+// Frame and mesh files are named <prefix>_NNNN.<ext> inside DIR/frames and DIR/mesh, so a
+// prefix cannot lead out of the output directory; it is still held to portable file-name
+// characters, so that every file system, shell and ffmpeg's pattern take it as it is.
+std::string prefix_problem(const std::string& prefix) {
+  if (prefix.empty()) return "must not be empty";
+  if (prefix.size() > std::size_t(kMaxPrefixLength))
+    return "may be at most " + std::to_string(kMaxPrefixLength) + " characters (got " + std::to_string(prefix.size()) + ")";
+  for (unsigned char c : prefix)
+    if (!(std::isalnum(c) || c == '_' || c == '-' || c == '.'))
+      return "may hold only letters, digits, '_', '-' and '.' (it names files in DIR/frames and DIR/mesh)";
+  if (prefix.front() == '.' || prefix.front() == '-') return "must not begin with '.' or '-'";
+  return "";
+}
+
 std::string numbered(const std::string& prefix, int frame, const char* extension) {
   char digits[16];
   std::snprintf(digits, sizeof digits, "_%04d", frame);
@@ -35,6 +50,15 @@ class RenderSink final : public io::FrameSink {
  public:
   RenderSink(const RenderSettings& render, const OutputSettings& output, std::filesystem::path out_dir)
       : renderer_(render), output_(output), out_dir_(std::move(out_dir)) {}
+
+  // The camera is fitted to the sheet at rest: a camera.up along the view fails here.
+  void check(const Simulation& sim) const override {
+    try {
+      (void)renderer_.camera_for(sim.world());
+    } catch (const RenderError& e) {
+      throw SceneError(e.what());
+    }
+  }
 
   // Frames go to DIR/frames/, meshes (and the print texture they reference) to DIR/mesh/.
   void on_start(const Simulation& sim) override {
@@ -102,8 +126,8 @@ OutputSettings parse_output_settings(const toml::table& root) {
   if (const toml::node* n = t->get("png")) o.png = io::read_bool(*n, "output.png");
   if (const toml::node* n = t->get("prefix")) {
     o.prefix = io::read_string(*n, "output.prefix");
-    if (o.prefix.empty() || o.prefix.find('/') != std::string::npos)
-      io::fail_at(*n, "output.prefix", "must be a non-empty file name without '/'");
+    if (const std::string problem = prefix_problem(o.prefix); !problem.empty())
+      io::fail_at(*n, "output.prefix", problem);
   }
   if (const toml::node* n = t->get("mesh")) {
     const std::string mesh = io::read_string(*n, "output.mesh");

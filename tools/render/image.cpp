@@ -9,6 +9,7 @@
 #include <iterator>
 #include <string>
 
+#include "core/input_file.hpp"
 #include "tools/output_files.hpp"
 
 namespace papertear::render {
@@ -85,11 +86,14 @@ Image decode_png(std::span<const std::uint8_t> png) {
 }
 
 Image read_png(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw RenderError("cannot open '" + path.string() + "'");
-  std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::string bytes;
   try {
-    return decode_png(bytes);
+    bytes = read_input_file(path.string(), kPrintImageKind);
+  } catch (const InputFileError& e) {
+    throw RenderError(e.what());
+  }
+  try {
+    return decode_png({reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size()});
   } catch (const RenderError& e) {
     throw RenderError("'" + path.string() + "': " + e.what());
   }

@@ -53,14 +53,14 @@ void with(const toml::table* table, const char* section, const char* key, Read&&
 }
 
 void read_render(const toml::table* t, RenderSettings& s) {
-  with(t, "render", "width", [&](auto& n, auto k) { s.width = read_int_range(n, k, 1, 16384); });
-  with(t, "render", "height", [&](auto& n, auto k) { s.height = read_int_range(n, k, 1, 16384); });
-  with(t, "render", "samples", [&](auto& n, auto k) { s.samples = read_int_range(n, k, 1, 256); });
+  with(t, "render", "width", [&](auto& n, auto k) { s.width = read_int_range(n, k, 1, kMaxImageSide); });
+  with(t, "render", "height", [&](auto& n, auto k) { s.height = read_int_range(n, k, 1, kMaxImageSide); });
+  with(t, "render", "samples", [&](auto& n, auto k) { s.samples = read_int_range(n, k, 1, kMaxSamples); });
   with(t, "render", "background", [&](auto& n, auto k) { s.background = read_colour(n, k); });
   with(t, "render", "paper_color", [&](auto& n, auto k) { s.paper_color = read_colour(n, k); });
   with(t, "render", "exposure", [&](auto& n, auto k) { s.exposure = read_range(n, k, 0.0, 100.0); });
   with(t, "render", "fray", [&](auto& n, auto k) { s.fray = io::read_bool(n, k); });
-  with(t, "render", "fray_length", [&](auto& n, auto k) { s.fray_length = read_range(n, k, 0.0, 2.0); });
+  with(t, "render", "fray_length", [&](auto& n, auto k) { s.fray_length = read_range(n, k, 0.0, kMaxFrayLength); });
   with(t, "render", "layer_opacity", [&](auto& n, auto k) { s.layer_opacity = read_range(n, k, 0.0, 1.0); });
 }
 
@@ -127,6 +127,7 @@ RenderSettings parse_render_settings(const toml::table& root, const std::filesys
 void validate(const RenderSettings& s) {
   if (s.width < 1 || s.height < 1) fail("render.width", "the image must be at least 1 x 1 pixels");
   if (s.samples < 1) fail("render.samples", "must be at least 1");
+
   if (!(s.fray_length >= 0.0)) fail("render.fray_length", "must be >= 0");
   if (!(s.layer_opacity >= 0.0 && s.layer_opacity <= 1.0)) fail("render.layer_opacity", "must be in [0, 1]");
   if (!(s.camera.fov > 0.0 && s.camera.fov < 180.0)) fail("camera.fov", "must be in (0, 180) degrees");

@@ -41,6 +41,12 @@ struct PrintSettings {
   std::filesystem::path image;        // empty: the built-in procedural print
 };
 
+// Upper bounds on the image: a 16k frame is 800 MB of samples before it is encoded.
+inline constexpr int kMaxImageSide = 16384;    // render.width, render.height, in pixels
+inline constexpr int kMaxSamples = 256;        // render.samples
+inline constexpr double kMaxFrayLength = 2.0;  // render.fray_length, in cells
+inline constexpr int kMaxPrefixLength = 64;    // output.prefix, in characters
+
 struct RenderSettings {
   int width = 1280;
   int height = 720;
