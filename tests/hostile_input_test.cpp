@@ -159,7 +159,7 @@ TEST_CASE("hostile input: a load far faster than the sheet's waves blows up, bla
   const fs::path dir = papertear::testing::fresh_test_dir("hostile", "blow_up");
   const fs::path out = dir / "out";
   const Outcome o = run_bounded(dir,
-                                "run --quiet --set 'sheet.cells=[30,20,3]' --set load.speed=1e6 --steps 200 "
+                                "run --quiet --set 'sheet.cells=[8,6,2]' --set load.speed=1e6 --steps 200 "
                                 "--set output.png=false --set output.mesh=none --set output.animation=false --out '" +
                                     out.string() + "'");
   INFO(o.err);
