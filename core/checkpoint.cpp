@@ -1,11 +1,9 @@
 #include "core/checkpoint.hpp"
 
 #include <bit>
-#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <memory>
 #include <type_traits>
 #include <vector>
 

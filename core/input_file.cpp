@@ -39,11 +39,10 @@ void require_regular(const std::string& path, const struct stat& st, const Input
     fail(path, std::string("is ") + file_type_name(st.st_mode) + ", not a " + kind.name + " (only regular files are read)");
 }
 
-void require_under_cap(const std::string& path, std::uint64_t size, const InputKind& kind) {
-  const std::uint64_t cap = input_cap_bytes(kind);
-  if (size > cap)
-    fail(path, std::string("the ") + kind.name + " is " + (size == cap + 1 ? "larger than " + mib_text(cap) : mib_text(size)) +
-                   ", over the cap of " + mib_text(cap) + " (set " + kInputCapVariable + " to raise it)");
+// `size_text`: the file's size, or "larger than ..." when the read found more than it said.
+[[noreturn]] void over_cap(const std::string& path, const InputKind& kind, std::uint64_t cap, const std::string& size_text) {
+  fail(path, std::string("the ") + kind.name + " is " + size_text + ", over the cap of " + mib_text(cap) + " (set " +
+                 kInputCapVariable + " to raise it)");
 }
 
 // Closes the descriptor on every way out.
@@ -71,6 +70,7 @@ std::uint64_t input_cap_bytes(const InputKind& kind) {
 std::string read_input_file(const std::string& path, const InputKind& kind) {
   if (path.empty()) throw InputFileError(std::string("the ") + kind.name + " name is empty");
   if (path.find('\0') != std::string::npos) fail(path, "the file name contains a NUL character");
+  const std::uint64_t cap = input_cap_bytes(kind);  // a malformed PAPERTEAR_MAX_INPUT_MB fails first
   struct stat st {};
   if (::stat(path.c_str(), &st) != 0) {
     if (errno == ENOENT) fail(path, std::string(kind.name) + " not found");
@@ -82,10 +82,9 @@ std::string read_input_file(const std::string& path, const InputKind& kind) {
   if (file.fd < 0) fail(path, std::string("cannot open the ") + kind.name + " (" + system_reason() + ")");
   if (::fstat(file.fd, &st) != 0) fail(path, std::string("cannot read the ") + kind.name + " (" + system_reason() + ")");
   require_regular(path, st, kind);
-  require_under_cap(path, std::uint64_t(st.st_size), kind);
+  if (std::uint64_t(st.st_size) > cap) over_cap(path, kind, cap, mib_text(std::uint64_t(st.st_size)));
   // Read to the cap plus one byte whatever the size said: /proc and /sys files report 0 and
   // a file may grow while it is read.
-  const std::uint64_t cap = input_cap_bytes(kind);
   std::string bytes;
   bytes.reserve(std::size_t(st.st_size));
   char buffer[1 << 16];
@@ -95,7 +94,7 @@ std::string read_input_file(const std::string& path, const InputKind& kind) {
     if (n < 0) fail(path, std::string("cannot read the ") + kind.name + " (" + system_reason() + ")");
     if (n == 0) break;
     bytes.append(buffer, std::size_t(n));
-    if (bytes.size() > cap) require_under_cap(path, cap + 1, kind);
+    if (bytes.size() > cap) over_cap(path, kind, cap, "larger than " + mib_text(cap));
   }
   return bytes;
 }

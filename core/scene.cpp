@@ -89,14 +89,14 @@ void non_negative(double v, const char* key) {
   require(v >= 0.0, key, "must not be negative (got " + std::to_string(v) + ")");
 }
 
-// "<what> (got <value>, the bound is <bound>)": the message for a value above its limit.
-// Whole numbers without a fraction, others as %g.
+// A number for a message: whole numbers without a fraction, others as %g.
 std::string number_text(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.10g", v);
   return buf;
 }
 
+// "<key>: <what> <bound> (got <value>)" when the value is above its bound.
 template <class T, class B>
 void at_most(T value, B bound, const char* key, const char* what = "must be at most") {
   require(value <= bound, key, std::string(what) + " " + number_text(double(bound)) + " (got " + number_text(double(value)) + ")");
@@ -245,7 +245,7 @@ void validate_line(const LineParams& line, std::size_t index, const SheetParams&
           "must be 0 (all layers) to " + std::to_string(s.cells[2]) + " (got " + std::to_string(line.depth) + ")");
   positive(line.pitch, key("pitch").c_str());
   require(line.pitch >= limits::kMinPitch, key("pitch").c_str(),
-          "must be at least " + std::to_string(limits::kMinPitch) + " cells (got " + std::to_string(line.pitch) + ")");
+          "must be at least " + number_text(limits::kMinPitch) + " cells (got " + number_text(line.pitch) + ")");
   require(std::isfinite(line.duty) && line.duty >= 0.0 && line.duty <= 1.0, key("duty").c_str(),
           "must be in [0, 1] (got " + std::to_string(line.duty) + ")");
 }

@@ -116,8 +116,9 @@ double cube_stable_dt(const Scene& s) {
 void print_timing(const Scene& s, const Simulation& sim, double stable, int threads,
                   const StepTiming& timing) {
   std::printf("stable dt:      %.6g (cubes of the same in-plane size: %.6g)\n", stable, cube_stable_dt(s));
-  std::printf("wave speed:     %.4g mm/us in-plane (load.speed %.3g is %.2g %% of it)\n",
-              in_plane_wave_speed(s.material), s.load.speed, 100.0 * std::abs(s.load.speed) / in_plane_wave_speed(s.material));
+  const double wave_speed = in_plane_wave_speed(s.material);
+  std::printf("wave speed:     %.4g mm/us in-plane (load.speed %.3g is %.2g %% of it)\n", wave_speed, s.load.speed,
+              100.0 * std::abs(s.load.speed) / wave_speed);
   if (s.run.dt == 0.0)
     std::printf("dt used:        %.6g (auto: %g x stable limit)\n", sim.dt(), s.run.dt_safety);
   else

@@ -1,10 +1,7 @@
 #include "tools/scene_file.hpp"
 
 #include <cctype>
-#include <cerrno>
-#include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <sstream>
 
 #include "core/input_file.hpp"

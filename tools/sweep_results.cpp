@@ -3,8 +3,6 @@
 #include <algorithm>
 #include <array>
 #include <cstdio>
-#include <fstream>
-#include <sstream>
 
 #include "core/input_file.hpp"
 #include "tools/output_files.hpp"

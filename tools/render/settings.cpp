@@ -127,7 +127,6 @@ RenderSettings parse_render_settings(const toml::table& root, const std::filesys
 void validate(const RenderSettings& s) {
   if (s.width < 1 || s.height < 1) fail("render.width", "the image must be at least 1 x 1 pixels");
   if (s.samples < 1) fail("render.samples", "must be at least 1");
-
   if (!(s.fray_length >= 0.0)) fail("render.fray_length", "must be >= 0");
   if (!(s.layer_opacity >= 0.0 && s.layer_opacity <= 1.0)) fail("render.layer_opacity", "must be in [0, 1]");
   if (!(s.camera.fov > 0.0 && s.camera.fov < 180.0)) fail("camera.fov", "must be in (0, 180) degrees");
