@@ -173,7 +173,8 @@ std::uint32_t farthest(const TearGraph& g, const Crack& c, std::uint32_t from, s
   queue.push({0.0, from});
   std::uint32_t best = from;
   while (!queue.empty()) {
-    const auto [d, v] = queue.top();
+    const double d = queue.top().first;  // not a structured binding: clang 14 cannot capture one
+    const std::uint32_t v = queue.top().second;
     queue.pop();
     if (d > dist[v]) continue;
     if (d > dist[best] || (d == dist[best] && v < best)) best = v;

@@ -45,7 +45,7 @@ struct Lanes;
 template <>
 struct Lanes<float> {
   static constexpr int W = 1;
-  static constexpr bool kAvx2 = false;
+  [[maybe_unused]] static constexpr bool kAvx2 = false;  // read only where AVX2 is compiled in
   static float load(const float* p) { return *p; }
   static void store(float* p, float v) { *p = v; }
   static float sqrt(float v) { return std::sqrt(v); }
@@ -65,7 +65,7 @@ struct Lanes<xsimd::batch<float, A>> {
 #if XSIMD_WITH_AVX2
   static constexpr bool kAvx2 = std::is_same_v<A, xsimd::avx2>;
 #else
-  static constexpr bool kAvx2 = false;
+  [[maybe_unused]] static constexpr bool kAvx2 = false;  // read only where AVX2 is compiled in
 #endif
 #if XSIMD_WITH_AVX512F
   static constexpr bool kAvx512 = std::is_same_v<A, xsimd::avx512f>;

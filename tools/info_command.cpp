@@ -13,6 +13,7 @@
 #include "tools/commands.hpp"
 #include "tools/progress.hpp"
 #include "tools/render/settings.hpp"
+#include "tools/sweep_file.hpp"
 
 namespace papertear::cli {
 namespace {
@@ -139,6 +140,7 @@ void print_limits() {
   std::printf("  %-34s %d pixels\n", "render.width, render.height", render::kMaxImageSide);
   std::printf("  %-34s %d\n", "render.samples", render::kMaxSamples);
   std::printf("  %-34s %d characters of [A-Za-z0-9._-]\n", "output.prefix", render::kMaxPrefixLength);
+  std::printf("  %-34s %zu\n", "sweep points (grid x seeds)", io::kMaxSweepPoints);
   for (const InputKind* k : {&kSceneFileKind, &kSweepFileKind, &kCheckpointKind, &kPrintImageKind})
     std::printf("  %-34s %llu MiB (regular files only; %s overrides)\n", k->name,
                 static_cast<unsigned long long>(input_cap_bytes(*k) >> 20), kInputCapVariable);

@@ -12,21 +12,13 @@
 namespace papertear::io {
 namespace {
 
-// More points than this is a mistake in the file (a grid with a runaway key), not a study.
-constexpr std::size_t kMaxPoints = 1'000'000;
 
 const std::vector<std::string>& sweep_keys() {
   static const std::vector<std::string> keys = {"scene", "seeds", "set", "grid", "point"};
   return keys;
 }
 
-toml::table parse_sweep_document(const std::filesystem::path& path) {
-  std::string text;
-  try {
-    text = read_input_file(path.string(), kSweepFileKind);
-  } catch (const InputFileError& e) {
-    throw SceneError(e.what());
-  }
+toml::table parse_sweep_document(std::string_view text, const std::filesystem::path& path) {
   try {
     return toml::parse(text, path.string());
   } catch (const toml::parse_error& e) {
@@ -189,8 +181,8 @@ std::vector<std::vector<SweepValue>> grid_combinations(const std::vector<GridAxi
   std::size_t count = 1;
   for (const GridAxis& a : axes) {
     count *= a.values.size();
-    if (count > kMaxPoints)
-      throw SceneError(path.string() + ": [grid] has more than " + std::to_string(kMaxPoints) + " points");
+    if (count > kMaxSweepPoints)
+      throw SceneError(path.string() + ": [grid] has more than " + std::to_string(kMaxSweepPoints) + " points");
   }
   std::vector<std::vector<SweepValue>> out;
   for (std::size_t n = 0; n < count; ++n) {
@@ -213,8 +205,8 @@ std::vector<std::vector<SweepValue>> point_tables(const toml::node& node, const 
   if (list->empty()) fail_at(node, "point", "the list of points is empty");
   std::vector<std::vector<SweepValue>> out;
   for (const toml::node& t : *list) out.push_back(read_overrides(*t.as_table(), "[[point]]", seeded));
-  if (out.size() > kMaxPoints)
-    throw SceneError(path.string() + ": more than " + std::to_string(kMaxPoints) + " points");
+  if (out.size() > kMaxSweepPoints)
+    throw SceneError(path.string() + ": more than " + std::to_string(kMaxSweepPoints) + " points");
   return out;
 }
 
@@ -258,7 +250,17 @@ std::uint64_t fnv1a(std::string_view bytes) {
 }  // namespace
 
 SweepDefinition load_sweep(const std::filesystem::path& path) {
-  const toml::table doc = parse_sweep_document(path);
+  std::string text;
+  try {
+    text = read_input_file(path.string(), kSweepFileKind);
+  } catch (const InputFileError& e) {
+    throw SceneError(e.what());
+  }
+  return parse_sweep(text, path);
+}
+
+SweepDefinition parse_sweep(std::string_view text, const std::filesystem::path& path) {
+  const toml::table doc = parse_sweep_document(text, path);
   check_known_keys(doc, "", sweep_keys());
   SweepDefinition sweep;
   sweep.path = path;
@@ -278,8 +280,8 @@ SweepDefinition load_sweep(const std::filesystem::path& path) {
   sweep.keys = swept_keys(combos);
 
   const std::size_t per_combo = sweep.seeded ? seeds.size() : 1;
-  if (combos.size() * per_combo > kMaxPoints)
-    throw SceneError(path.string() + ": more than " + std::to_string(kMaxPoints) + " points");
+  if (combos.size() * per_combo > kMaxSweepPoints)
+    throw SceneError(path.string() + ": more than " + std::to_string(kMaxSweepPoints) + " points");
   for (const auto& combo : combos)
     for (std::size_t s = 0; s < per_combo; ++s) {
       SweepPoint p{static_cast<int>(sweep.points.size()), combo, std::nullopt};

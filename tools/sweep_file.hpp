@@ -16,11 +16,13 @@
 // is resolved exactly like `papertear run BASE --set <[set]>... --set <point>... --set
 // run.seed=<seed>`, so its digest is the one that run prints.
 #pragma once
+#include <cstddef>
 #include <cstdint>
 #include <filesystem>
 #include <optional>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -28,6 +30,9 @@
 #include "tools/scene_file.hpp"
 
 namespace papertear::io {
+
+// More points than this is a mistake in the file (a grid with a runaway key), not a study.
+inline constexpr std::size_t kMaxSweepPoints = 100'000;
 
 // One overridden key of a point: the value as --set text and as JSON (for the result rows).
 struct SweepValue {
@@ -55,6 +60,9 @@ struct SweepDefinition {
 // Reads and checks a sweep file: syntax, known top-level keys, known scene keys, non-empty
 // lists. Throws SceneError naming the file, place and problem. Does not resolve the scenes.
 SweepDefinition load_sweep(const std::filesystem::path& path);
+// The same from text already read; `path` names the file in messages and anchors a relative
+// base scene.
+SweepDefinition parse_sweep(std::string_view text, const std::filesystem::path& path);
 
 // The --set overrides that make point `p`'s scene from the base scene.
 std::vector<SetOverride> point_overrides(const SweepDefinition& sweep, const SweepPoint& p);
