@@ -12,7 +12,6 @@
 namespace papertear::io {
 namespace {
 
-
 const std::vector<std::string>& sweep_keys() {
   static const std::vector<std::string> keys = {"scene", "seeds", "set", "grid", "point"};
   return keys;
@@ -203,10 +202,11 @@ std::vector<std::vector<SweepValue>> point_tables(const toml::node& node, const 
   if (!list || !list->is_array_of_tables())
     fail_at(node, "point", "expected [[point]] tables, got " + type_phrase(node));
   if (list->empty()) fail_at(node, "point", "the list of points is empty");
+  // Counted before any point is read, as grid_combinations does.
+  if (list->size() > kMaxSweepPoints)
+    throw SceneError(path.string() + ": more than " + std::to_string(kMaxSweepPoints) + " points");
   std::vector<std::vector<SweepValue>> out;
   for (const toml::node& t : *list) out.push_back(read_overrides(*t.as_table(), "[[point]]", seeded));
-  if (out.size() > kMaxSweepPoints)
-    throw SceneError(path.string() + ": more than " + std::to_string(kMaxSweepPoints) + " points");
   return out;
 }
 
