@@ -128,7 +128,8 @@ std::array<double, 3> bond_failure_time(const MaterialParams& m, const LatticeDi
   const Moduli g = fit_springs(target_moduli(m), d).achieved;
   const double rho = lattice_density(m);
   auto rayleigh = [rho](double shear) { return 0.92 * std::sqrt(shear / rho); };
-  const double in_plane = rayleigh(g.shear[2]);
+  // In the plane: the faster of the two in-plane longitudinal waves (core/elasticity.hpp).
+  const double in_plane = std::sqrt(std::max(g.young[0], g.young[1]) / rho);
   return {d.hy / in_plane, d.hx / in_plane, std::min(d.hx / rayleigh(g.shear[1]), d.hy / rayleigh(g.shear[0]))};
 }
 

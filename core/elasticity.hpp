@@ -66,12 +66,14 @@ struct SpringFit {
 SpringFit fit_springs(const Moduli& target, const LatticeDims& dims);
 
 // How long a bond on a face normal to axis a must stay over its strength before it fails
-// (fracture/fracture_pass.hpp): the time a crack front takes to cross one cell at the
-// Rayleigh speed c_R ≈ 0.92 √(G/ρ) of the plane it runs in. A crack through faces normal to
-// x runs along y, so τ_x = hy / c_R(G_xy) and τ_y = hx / c_R(G_xy); a delamination front
-// runs in the plane between layers, τ_z = min(hx / c_R(G_xz), hy / c_R(G_yz)). No crack can
-// then run faster than the material's own wave speed, and a stress spike shorter than a
-// wave's crossing of the cell cannot break a bond.
+// (fracture/fracture_pass.hpp): the time the fastest in-plane wave, the longitudinal one at
+// c_L = sqrt(max(E_x, E_y) / ρ), takes to cross one cell. A crack through faces normal to x
+// runs along y, so τ_x = hy / c_L and τ_y = hx / c_L; a delamination front runs in the plane
+// between layers at the Rayleigh speed c_R ≈ 0.92 √(G/ρ) of that plane,
+// τ_z = min(hx / c_R(G_xz), hy / c_R(G_yz)). A stress spike shorter than a wave's crossing
+// of the cell cannot break a bond. Why c_L and not c_R in the plane: with c_R, a crack that
+// had to fail one bond per τ ran at about the Rayleigh speed, where real cracks branch, and
+// the default pull forked into two cracks on one seed in four (README, "Delayed failure").
 std::array<double, 3> bond_failure_time(const MaterialParams& material, const LatticeDims& dims);
 
 // The continuum moduli of a cell whose 28 slots have stiffness k[s] (kSpringSlots order).

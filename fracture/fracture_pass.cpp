@@ -80,10 +80,18 @@ bool cracked_across(const World& w, const SplitVertices& split, int i, int j, in
 // A node is at the tip of a crack across `axis` (in plane) when the sheet is not cracked
 // across that plane at its vertex yet but is at a vertex next to it along the crack's path
 // (the other in-plane axis): the crack is about to reach it, and the bond there is judged at
-// tip_strength of the intact material's (fracture_pass.hpp). A crack's flanks are not tips.
+// tip_strength of the intact material's (fracture_pass.hpp). A crack's flanks are not tips,
+// and neither is a vertex one cell beside a crack of the same plane: the face next to it is
+// free, so the material there is shielded, not concentrated, and a second crack starting
+// beside the first would otherwise run along with it at the tip's strength and cut out a
+// strip one cell wide.
 bool at_crack_tip(const World& w, const SplitVertices& split, std::uint32_t node, int axis) {
   const auto v = w.topo.dims.vertex_ijk(w.nodes.vertex[node]);
   if (cracked_across(w, split, v[0], v[1], v[2], axis)) return false;
+  const int si = axis == 0 ? 1 : 0, sj = axis == 1 ? 1 : 0;  // beside: along the axis
+  if (cracked_across(w, split, v[0] + si, v[1] + sj, v[2], axis) ||
+      cracked_across(w, split, v[0] - si, v[1] - sj, v[2], axis))
+    return false;
   const int di = axis == 1 ? 1 : 0, dj = axis == 0 ? 1 : 0;
   return cracked_across(w, split, v[0] + di, v[1] + dj, v[2], axis) ||
          cracked_across(w, split, v[0] - di, v[1] - dj, v[2], axis);

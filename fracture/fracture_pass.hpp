@@ -12,9 +12,9 @@
 //     dt / τ_axis of damage (core/elasticity.hpp, bond_failure_time), once per step however
 //     many of the cell's edges exceed it; it can open only once its damage reaches 1. So a
 //     bond fails after it has been over its strength for the time a crack front needs to
-//     cross the cell at the material's Rayleigh speed: cracks run no faster than the wave
-//     speed, and the short strain spikes that a split sends to its neighbours (and the
-//     ringing of a sheet that has just come apart) no longer break them.
+//     cross the cell at the material's in-plane longitudinal wave speed: the short strain
+//     spikes that a split sends to its neighbours (and the ringing of a sheet that has just
+//     come apart) no longer break them.
 //  3. One serial pass in a fixed order — largest overstrain (strain / strength) first, then
 //     lowest spring id — applies the splits: of the ends whose bond is exceeded and that are
 //     still shared with cells across the plane through the end perpendicular to the spring,
