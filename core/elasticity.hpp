@@ -71,9 +71,9 @@ SpringFit fit_springs(const Moduli& target, const LatticeDims& dims);
 // runs along y, so τ_x = hy / c_L and τ_y = hx / c_L; a delamination front runs in the plane
 // between layers at the Rayleigh speed c_R ≈ 0.92 √(G/ρ) of that plane,
 // τ_z = min(hx / c_R(G_xz), hy / c_R(G_yz)). A stress spike shorter than a wave's crossing
-// of the cell cannot break a bond. Why c_L and not c_R in the plane: with c_R, a crack that
-// had to fail one bond per τ ran at about the Rayleigh speed, where real cracks branch, and
-// the default pull forked into two cracks on one seed in four (README, "Delayed failure").
+// of the cell cannot break a bond. Why c_L and not c_R in the plane: with c_R the tip waited
+// long enough at each vertex for the bonds one cell beside it to gather damage too, and the
+// default pull forked into two cracks on one seed in four (README, "Delayed failure").
 std::array<double, 3> bond_failure_time(const MaterialParams& material, const LatticeDims& dims);
 
 // The continuum moduli of a cell whose 28 slots have stiffness k[s] (kSpringSlots order).
